@@ -1,0 +1,1 @@
+"""Decision making: the abstract training environment, the Dueling Double DQN and baselines."""

@@ -1,0 +1,89 @@
+"""Schema of ``app/defaults/policy.yaml``: the training environment, network and DQN."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import Field
+
+from app.config import StrictModel, load_model
+from app.personality import Action
+
+
+class PeopleConfig(StrictModel):
+    """People coming and going in front of the robot."""
+
+    arrive_prob: float = Field(ge=0, le=1)
+    leave_prob: float = Field(ge=0, le=1)
+    find_success_prob: float = Field(ge=0, le=1)
+
+
+class EncouragementConfig(StrictModel):
+    """Praise from a person after a social action."""
+
+    after_actions: list[Action]
+    prob: float = Field(ge=0, le=1)
+    duration: int = Field(ge=1)
+
+
+class HeatConfig(StrictModel):
+    """A first-order motor heat model that raises the overheat stimulus."""
+
+    threshold: float = Field(gt=0, le=1)
+    initial: tuple[float, float]
+    heating: dict[Action, float]
+    cooling: dict[Action, float]
+    other_cooling: float = Field(ge=0, le=1)
+
+
+class EnvConfig(StrictModel):
+    """The abstract household the policy trains in."""
+
+    episode_steps: int = Field(ge=1)
+    initial_drives: tuple[float, float]
+    people: PeopleConfig
+    encouragement: EncouragementConfig
+    heat: HeatConfig
+
+
+class NetworkConfig(StrictModel):
+    """Sizes of the dueling Q-network."""
+
+    hidden: list[int] = Field(min_length=1)
+    head: int = Field(ge=1)
+    init_std: float = Field(gt=0)
+
+
+class TrainConfig(StrictModel):
+    """Dueling Double DQN hyper-parameters (thesis §4.1 where it gives them)."""
+
+    seed: int
+    num_envs: int = Field(ge=1)
+    total_transitions: int = Field(ge=1)
+    gamma: float = Field(ge=0, le=1)
+    learning_rate: float = Field(gt=0)
+    rmsprop_alpha: float = Field(gt=0, lt=1)
+    rmsprop_eps: float = Field(gt=0)
+    buffer_size: int = Field(ge=1)
+    batch_size: int = Field(ge=1)
+    learning_starts: int = Field(ge=0)
+    updates_per_transition: float = Field(gt=0)
+    target_sync_updates: int = Field(ge=1)
+    epsilon_start: float = Field(ge=0, le=1)
+    epsilon_end: float = Field(ge=0, le=1)
+    exploration_fraction: float = Field(gt=0, le=1)
+    max_grad_norm: float | None = Field(default=None, gt=0)
+    checkpoint_every: int = Field(ge=1)
+
+
+class PolicyConfig(StrictModel):
+    """Everything ``companion train policy`` needs besides the personality."""
+
+    env: EnvConfig
+    network: NetworkConfig
+    train: TrainConfig
+
+
+def load_policy_config(path: str | Path | None = None) -> PolicyConfig:
+    """Load the default policy config, overridden by the YAML file at ``path`` when given."""
+    return load_model(PolicyConfig, "policy.yaml", path)

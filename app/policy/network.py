@@ -1,0 +1,33 @@
+"""The dueling Q-network (thesis Fig. 3.6): a shared trunk, a state value and action advantages."""
+
+from __future__ import annotations
+
+import torch
+from torch import nn
+
+
+class DuelingQNetwork(nn.Module):
+    """Q(s, a) = V(s) + A(s, a) - mean_a' A(s, a') over fully connected layers."""
+
+    def __init__(self, n_obs: int, n_actions: int, hidden: list[int], head: int,
+                 init_std: float = 0.02) -> None:
+        super().__init__()
+        layers: list[nn.Module] = []
+        width = n_obs
+        for size in hidden:
+            layers += [nn.Linear(width, size), nn.ReLU()]
+            width = size
+        self.trunk = nn.Sequential(*layers)
+        self.value = nn.Sequential(nn.Linear(width, head), nn.ReLU(), nn.Linear(head, 1))
+        self.advantage = nn.Sequential(nn.Linear(width, head), nn.ReLU(),
+                                       nn.Linear(head, n_actions))
+        for module in self.modules():
+            if isinstance(module, nn.Linear):
+                nn.init.normal_(module.weight, 0.0, init_std)
+                nn.init.zeros_(module.bias)
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        """Q-values, shape (batch, n_actions)."""
+        h = self.trunk(obs)
+        adv = self.advantage(h)
+        return self.value(h) + adv - adv.mean(dim=-1, keepdim=True)

@@ -1,0 +1,170 @@
+"""Dueling Double DQN training on the abstract household (thesis §3.2.6, Algorithm 4).
+
+One readable loop in the CleanRL manner: every hyper-parameter comes from the ``train``
+section of the policy YAML. Progress is written as it goes (a flushed CSV log, atomic
+resumable checkpoints), so an interrupted run continues with ``--resume``.
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.nn.functional as F  # noqa: N812
+import yaml
+from tqdm import tqdm
+
+from app.checkpoint import atomic_torch_save
+from app.homeostasis import Homeostasis
+from app.personality import ACTIONS, MOTIVATIONS, Personality
+from app.policy.config import PolicyConfig
+from app.policy.env import VecHomeostasisEnv
+from app.policy.network import DuelingQNetwork
+from app.policy.replay import ReplayBuffer
+
+LOG_FIELDS = ["transitions", "updates", "episode", "return", "rsr", "epsilon", "wall_s"]
+
+
+def linear_schedule(start: float, end: float, duration: float, t: float) -> float:
+    """Linear decay from ``start`` to ``end`` over ``duration``, then constant."""
+    return end + (start - end) * max(0.0, 1.0 - t / duration)
+
+
+def export_policy(q: DuelingQNetwork, cfg: PolicyConfig, path: Path, meta: dict) -> None:
+    """Write the greedy policy's weights (loadable with ``weights_only=True``)."""
+    atomic_torch_save({"network": cfg.network.model_dump(), "state_dict": q.state_dict(),
+                       "meta": meta}, path)
+
+
+def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bool = False,
+          progress: bool = True) -> dict:
+    """Train a policy into ``out_dir``; returns a summary with the exported policy path."""
+    tc = cfg.train
+    out_dir.mkdir(parents=True, exist_ok=True)
+    ckpt_path, log_path = out_dir / "checkpoint.pt", out_dir / "train_log.csv"
+    if ckpt_path.exists() and not resume:
+        raise FileExistsError(f"{ckpt_path} exists: pass --resume to continue it, "
+                              "or choose another --out")
+    torch.set_num_threads(1)
+    torch.manual_seed(tc.seed)
+    rng = np.random.default_rng(tc.seed)
+
+    homeostasis = Homeostasis(personality)
+    env = VecHomeostasisEnv(homeostasis, cfg.env, tc.num_envs, seed=tc.seed)
+    n_obs, n_act = len(MOTIVATIONS), len(ACTIONS)
+    q = DuelingQNetwork(n_obs, n_act, **cfg.network.model_dump())
+    target = copy.deepcopy(q)
+    optimizer = torch.optim.RMSprop(q.parameters(), lr=tc.learning_rate,
+                                    alpha=tc.rmsprop_alpha, eps=tc.rmsprop_eps,
+                                    foreach=True)
+    memory = ReplayBuffer(tc.buffer_size, n_obs)
+    transitions = updates = episodes = 0
+    credit, wall_offset = 0.0, 0.0
+
+    if ckpt_path.exists():
+        state = torch.load(ckpt_path, map_location="cpu", weights_only=False)
+        q.load_state_dict(state["q"])
+        target.load_state_dict(state["target"])
+        optimizer.load_state_dict(state["optimizer"])
+        memory.load_state_dict(state["memory"])
+        env.load_state_dict(state["env"])
+        rng.bit_generator.state = state["rng"]
+        torch.set_rng_state(state["torch_rng"])
+        transitions, updates, episodes = state["counters"]
+        credit, wall_offset = state["credit"], state["wall_s"]
+    else:
+        (out_dir / "resolved_config.yaml").write_text(yaml.safe_dump(
+            {"personality": personality.model_dump(by_alias=True, mode="json"),
+             "policy": cfg.model_dump(mode="json")}, sort_keys=False))
+        with log_path.open("w", newline="") as fh:
+            csv.writer(fh).writerow(LOG_FIELDS)
+
+    def save_checkpoint() -> None:
+        atomic_torch_save({
+            "q": q.state_dict(), "target": target.state_dict(),
+            "optimizer": optimizer.state_dict(), "memory": memory.state_dict(),
+            "env": env.state_dict(), "rng": rng.bit_generator.state,
+            "torch_rng": torch.get_rng_state(),
+            "counters": (transitions, updates, episodes), "credit": credit,
+            "wall_s": wall_offset + time.perf_counter() - start,
+        }, ckpt_path)
+
+    def choose(obs: np.ndarray) -> np.ndarray:
+        eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
+                              tc.exploration_fraction * tc.total_transitions, transitions)
+        with torch.no_grad():
+            greedy = q(torch.as_tensor(obs, dtype=torch.float32)).argmax(-1).numpy()
+        explore = rng.random(len(obs)) < eps
+        return np.where(explore, rng.integers(0, n_act, len(obs)), greedy)
+
+    start = time.perf_counter()
+    decide = np.arange(tc.num_envs) if transitions == 0 else None
+    if decide is not None:
+        env.act(decide, choose(env.observe(decide)))
+    log_file = log_path.open("a", newline="")
+    log = csv.writer(log_file)
+    bar = tqdm(total=tc.total_transitions, initial=transitions, disable=not progress,
+               desc="train policy", unit="dec")
+    recent: list[dict] = []
+    try:
+        while transitions < tc.total_transitions:
+            d = env.advance()
+            memory.add(d.obs, d.action, d.reward, d.next_obs)
+            transitions += len(d.idx)
+            bar.update(len(d.idx))
+            env.act(d.idx, choose(d.decide_obs))
+            eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
+                                  tc.exploration_fraction * tc.total_transitions, transitions)
+            for ep in d.episodes:
+                episodes += 1
+                log.writerow([transitions, updates, episodes, f"{ep['return']:.3f}",
+                              f"{ep['rsr']:.6f}", f"{eps:.4f}",
+                              f"{wall_offset + time.perf_counter() - start:.1f}"])
+                recent = (recent + [ep])[-tc.num_envs:]
+            if d.episodes:
+                log_file.flush()
+                bar.set_postfix(eps=f"{eps:.2f}",
+                                rsr=f"{np.mean([e['rsr'] for e in recent]):.4f}",
+                                ret=f"{np.mean([e['return'] for e in recent]):.0f}")
+
+            if memory.size < tc.learning_starts:
+                continue
+            credit += len(d.idx) * tc.updates_per_transition
+            while credit >= 1.0:
+                credit -= 1.0
+                obs, act, rew, nxt = (torch.as_tensor(x) for x in
+                                      memory.sample(rng, tc.batch_size))
+                q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
+                q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
+                with torch.no_grad():  # Double DQN: the online net picks, the target rates
+                    best = q_next.argmax(dim=1, keepdim=True)
+                    y = rew + tc.gamma * target(nxt).gather(1, best).squeeze(1)
+                loss = F.mse_loss(q_obs.gather(1, act[:, None]).squeeze(1), y)
+                optimizer.zero_grad()
+                loss.backward()
+                if tc.max_grad_norm is not None:
+                    torch.nn.utils.clip_grad_norm_(q.parameters(), tc.max_grad_norm)
+                optimizer.step()
+                updates += 1
+                if updates % tc.target_sync_updates == 0:
+                    target.load_state_dict(q.state_dict())
+                if updates % tc.checkpoint_every == 0:
+                    save_checkpoint()
+    except KeyboardInterrupt:
+        save_checkpoint()
+        raise
+    finally:
+        bar.close()
+        log_file.close()
+    save_checkpoint()
+    wall = wall_offset + time.perf_counter() - start
+    summary = {"transitions": transitions, "updates": updates, "episodes": episodes,
+               "wall_s": round(wall, 1), "seed": tc.seed}
+    export_policy(q, cfg, out_dir / "policy.pt", summary)
+    (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
+    return summary

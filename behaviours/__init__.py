@@ -1,0 +1,1 @@
+"""py_trees behaviours of the household run: sense, homeostasis tick, decide, act."""

@@ -1,0 +1,1 @@
+"""Dialogue manager, QA bot, chit-chat and mood-driven style transfer."""

@@ -1,0 +1,1 @@
+"""Rendering helpers, the person/face detector and visual question generation."""
