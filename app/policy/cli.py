@@ -23,7 +23,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, default=Path("runs/train-policy"), help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
     p.add_argument("--export", type=Path,
-                   help=f"also copy the trained policy here (e.g. {DEFAULT_POLICY.relative_to(MODELS_DIR.parents[1])})")
+                   help="also copy the trained policy here (e.g. assets/models/policy.pt)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_train)
 

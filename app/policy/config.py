@@ -59,6 +59,7 @@ class TrainConfig(StrictModel):
 
     seed: int
     num_envs: int = Field(ge=1)
+    episode_steps: int = Field(ge=1)
     total_transitions: int = Field(ge=1)
     gamma: float = Field(ge=0, le=1)
     learning_rate: float = Field(gt=0)

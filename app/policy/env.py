@@ -58,6 +58,7 @@ class VecHomeostasisEnv:
         self.encouraging = np.array([a in cfg.encouragement.after_actions for a in ACTIONS])
         self.finds = np.array([a == "find_people" for a in ACTIONS])
         self.trace: Trace | None = None
+        self.ticks = 0  # steps taken by the shared clock
         n = num_envs
         self.drives = np.zeros((n, len(DRIVES)))
         self.human = np.zeros(n, dtype=bool)
@@ -120,6 +121,7 @@ class VecHomeostasisEnv:
         self.encouraged_for = np.maximum(self.encouraged_for - 1, 0)
         self.heat = np.clip(self.heat + self.heating[a] - self.cooling[a] * self.heat, 0, 1)
         self.t += 1
+        self.ticks += 1
         self.remaining -= 1
         self.secure_steps += self.h.secure(self.drives)
         self.high_steps += self.drives >= self.h.personality.secure_threshold

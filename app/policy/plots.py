@@ -8,11 +8,11 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from app.personality import ACTIONS, MOTIVATIONS  # noqa: E402
-from app.policy.env import Trace  # noqa: E402
+from app.personality import ACTIONS, MOTIVATIONS
+from app.policy.env import Trace
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:

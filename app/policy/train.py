@@ -55,7 +55,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     rng = np.random.default_rng(tc.seed)
 
     homeostasis = Homeostasis(personality)
-    env = VecHomeostasisEnv(homeostasis, cfg.env, tc.num_envs, seed=tc.seed)
+    env_cfg = cfg.env.model_copy(update={"episode_steps": tc.episode_steps})
+    env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.seed)
     n_obs, n_act = len(MOTIVATIONS), len(ACTIONS)
     q = DuelingQNetwork(n_obs, n_act, **cfg.network.model_dump())
     target = copy.deepcopy(q)
@@ -125,7 +126,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                 log.writerow([transitions, updates, episodes, f"{ep['return']:.3f}",
                               f"{ep['rsr']:.6f}", f"{eps:.4f}",
                               f"{wall_offset + time.perf_counter() - start:.1f}"])
-                recent = (recent + [ep])[-tc.num_envs:]
+                recent = [*recent, ep][-tc.num_envs:]
             if d.episodes:
                 log_file.flush()
                 bar.set_postfix(eps=f"{eps:.2f}",

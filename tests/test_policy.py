@@ -1,0 +1,144 @@
+"""The training env, a tiny seeded training run, the baselines and the shipped policy."""
+
+import json
+
+import numpy as np
+import pytest
+import torch
+
+from app.cli import main
+from app.homeostasis import Homeostasis
+from app.personality import ACTIONS, STAND_BY, load_personality
+from app.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
+from app.policy.baselines import HomeostaticRule, RandomPolicy
+from app.policy.config import load_policy_config
+from app.policy.env import VecHomeostasisEnv
+from app.policy.evaluate import run_episodes, summarise
+from app.policy.network import DuelingQNetwork
+from app.policy.train import train
+
+
+@pytest.fixture(scope="module")
+def h():
+    return Homeostasis(load_personality())
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    return load_policy_config()
+
+
+def short_env(cfg, steps=2000):
+    return cfg.env.model_copy(update={"episode_steps": steps})
+
+
+def test_env_runs_actions_for_their_duration(h, cfg):
+    env = VecHomeostasisEnv(h, cfg.env, 3, seed=0)
+    env.act(np.arange(3), np.array([2, STAND_BY, 0]))  # find people, stand by, charge
+    d = env.advance()
+    assert list(d.idx) == [1] and env.t[1] == 12        # stand-by ends first, after 12 steps
+    env.act(d.idx, np.array([STAND_BY]))
+    d = env.advance()
+    assert sorted(d.idx) == [0, 1] and env.t[0] == 30   # find people at 30, stand-by at 24
+
+
+def test_env_is_seeded(h, cfg):
+    a = run_episodes(HomeostaticRule(h), h, short_env(cfg), 4, seed=3)[0]
+    b = run_episodes(HomeostaticRule(h), h, short_env(cfg), 4, seed=3)[0]
+    assert a == b
+
+
+def test_env_state_round_trips(h, cfg):
+    env = VecHomeostasisEnv(h, cfg.env, 4, seed=0)
+    rule = HomeostaticRule(h)
+    env.act(np.arange(4), rule(env.observe()))
+    twin = VecHomeostasisEnv(h, cfg.env, 4, seed=99)
+    twin.load_state_dict(env.state_dict())
+    for e in (env, twin):
+        d = e.advance()
+        e.act(d.idx, rule(d.decide_obs))
+    np.testing.assert_array_equal(env.drives, twin.drives)
+
+
+def test_rule_serves_the_strongest_motivation_above_range(h):
+    rule = HomeostaticRule(h)
+    m = np.array([[0.5, 0.5, 0.5, 0.5, 0.5, 0.5],    # all in range: stand by
+                  [0.7, 0.5, 0.65, 0.5, 0.5, 0.5],   # survival strongest and above: charge
+                  [0.1, 0.5, 0.5, 0.5, 0.62, 0.5]])  # self-actualisation: chat
+    assert [ACTIONS[a] for a in rule(m)] == ["stand_by", "charge", "chat"]
+
+
+def test_dueling_network_shapes_and_init():
+    net = DuelingQNetwork(6, 7, [32, 32], 16, init_std=0.02)
+    q = net(torch.zeros(5, 6))
+    assert q.shape == (5, 7)
+    first = net.trunk[0].weight
+    assert abs(first.std().item() - 0.02) < 0.01 and first.abs().max() < 0.2
+
+
+def test_tiny_training_run_beats_random(h, cfg, tmp_path):
+    tiny = cfg.model_copy(update={
+        "env": short_env(cfg, 3000),
+        "network": cfg.network.model_copy(update={"hidden": [64, 64], "head": 32}),
+        "train": cfg.train.model_copy(update={
+            "num_envs": 32, "total_transitions": 20000, "learning_starts": 1000,
+            "updates_per_transition": 0.5, "target_sync_updates": 1000, "buffer_size": 20000,
+            "learning_rate": 5e-4, "exploration_fraction": 0.5, "checkpoint_every": 2000})})
+    summary = train(h.personality, tiny, tmp_path, progress=False)
+    assert summary["transitions"] >= 20000
+    assert (tmp_path / "checkpoint.pt").exists() and (tmp_path / "train_log.csv").exists()
+    trained = summarise(run_episodes(DQNPolicy.load(tmp_path / "policy.pt"), h, tiny.env,
+                                     16, seed=5)[0])
+    rand = summarise(run_episodes(RandomPolicy(7, 5), h, tiny.env, 16, seed=5)[0])
+    assert trained["mean_reward"] > rand["mean_reward"] + 50
+    assert trained["rsr"] > rand["rsr"]
+
+
+def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
+    tiny = cfg.model_copy(update={
+        "env": short_env(cfg, 500),
+        "train": cfg.train.model_copy(update={
+            "num_envs": 8, "total_transitions": 600, "learning_starts": 100,
+            "checkpoint_every": 50})})
+    train(h.personality, tiny, tmp_path, progress=False)
+    with pytest.raises(FileExistsError, match="--resume"):
+        train(h.personality, tiny, tmp_path, progress=False)
+    longer = tiny.model_copy(update={
+        "train": tiny.train.model_copy(update={"total_transitions": 1200})})
+    summary = train(h.personality, longer, tmp_path, resume=True, progress=False)
+    assert summary["transitions"] >= 1200
+    rows = (tmp_path / "train_log.csv").read_text().splitlines()
+    assert rows[0].startswith("transitions,") and len(rows) > 1
+
+
+def test_missing_or_corrupt_policy_file_is_a_clear_error(tmp_path):
+    with pytest.raises(PolicyFileError, match="not found"):
+        DQNPolicy.load(tmp_path / "none.pt")
+    bad = tmp_path / "bad.pt"
+    bad.write_bytes(b"not a checkpoint")
+    with pytest.raises(PolicyFileError, match="not a valid policy file"):
+        DQNPolicy.load(bad)
+
+
+def test_shipped_policy_meets_its_bar(h, cfg):
+    """The committed policy keeps the robot secure and out-earns both baselines."""
+    policy = DQNPolicy.load(DEFAULT_POLICY)
+    assert policy.act(np.full(6, 0.5)) in ACTIONS
+    results = {name: summarise(run_episodes(p, h, cfg.env, 8, seed=2024)[0]) for name, p in
+               [("dqn", policy), ("random", RandomPolicy(7, 2024)),
+                ("rule", HomeostaticRule(h))]}
+    assert results["dqn"]["rsr"] >= 0.9998
+    assert results["dqn"]["rsr"] >= max(results["random"]["rsr"], results["rule"]["rsr"])
+    assert results["dqn"]["mean_reward"] > max(results["random"]["mean_reward"],
+                                               results["rule"]["mean_reward"])
+
+
+def test_eval_cli_json(tmp_path, capsys):
+    code = main(["eval", "policy", "--episodes", "2", "--seed", "1", "--json",
+                 "--out", str(tmp_path)])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) == {"dqn", "random", "homeostatic_rule"}
+    assert set(out["dqn"]["action_histogram"]) == set(ACTIONS)
+    for name in ("motivations", "actions", "mood", "training_reward", "training_rsr"):
+        assert (tmp_path / "plots" / f"{name}.png").stat().st_size > 1000

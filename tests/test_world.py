@@ -1,0 +1,200 @@
+"""Building scenario worlds in PyBullet DIRECT mode, the people timeline and the camera view."""
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pybullet as p
+import pytest
+
+from app.people import Appearance, create_person
+from app.scenario import load_scenario
+from app.world import EmotionEvent, EncourageEvent, SayEvent, World
+
+WORLDS = Path(__file__).resolve().parents[1] / "worlds"
+NAMES = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
+
+
+@pytest.fixture
+def client() -> Iterator[int]:
+    cid = p.connect(p.DIRECT)
+    yield cid
+    p.disconnect(cid)
+
+
+def build(name: str, client: int) -> World:
+    return World(load_scenario(WORLDS / f"{name}.yaml"), client)
+
+
+def run(world: World, until: float, dt: float = 0.1, start: float = 0.0) -> list:
+    """Advance in steps of ``dt`` from ``start`` to ``until``; return the social events."""
+    out, k = [], 0
+    while start + (k + 1) * dt <= until + 1e-9:
+        out += world.advance(start + k * dt, start + (k + 1) * dt)
+        k += 1
+    return out
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_each_world_builds_and_is_consistent(name, client):
+    world = build(name, client)
+    s = world.scenario
+    present = [q for q in s.people if q.start is not None]
+    # ground, house, furniture, objects, dock, people present at the start; no robot
+    expected = 3 + len(s.furniture) + len(s.objects) + len(present)
+    assert p.getNumBodies(physicsClientId=client) == expected
+    assert set(world.people_positions()) == {q.name for q in present}
+    start, dock = world.robot_start(), world.dock_pose()
+    assert math.isclose(start.yaw, math.radians(s.robot.start.yaw))
+    assert any(x0 < dock.x < x1 and y0 < dock.y < y1
+               for x0, y0, x1, y1 in world.room_bounds().values())
+    solid = [f for f in world.obstacles() if f.kind != "dock"]
+    kinds = {f.kind for f in world.obstacles()}
+    assert {"wall", "furniture", "dock"} <= kinds
+    for pose in (start, dock):
+        assert not any(f.contains(pose.x, pose.y, margin=0.25) for f in solid), (name, pose)
+    assert world.light.camera_kwargs()["lightAmbientCoeff"] == s.lighting.ambient
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_people_walk_around_furniture_and_every_event_fires_once(name, client):
+    world = build(name, client)
+    furniture = [f for f in world.obstacles() if f.kind in ("furniture", "wall")]
+    before = world.people_positions()
+    social, dt = [], world.scenario.step
+    for k in range(round(world.scenario.duration / dt)):
+        t = (k + 1) * dt
+        social += world.advance(k * dt, t)
+        now = world.people_positions()
+        for who, pose in now.items():
+            moved = who in before and math.hypot(pose.x - before[who].x, pose.y - before[who].y)
+            if moved:  # a walking person never stands inside furniture or a wall
+                hit = [f.name for f in furniture if f.contains(pose.x, pose.y, margin=-0.05)]
+                assert not hit, (who, round(t, 1), hit)
+        before = now
+    n_social = sum(e.kind in ("say", "encourage", "emotion")
+                   for q in world.scenario.people for e in q.events)
+    assert len(social) == n_social
+    assert [e.t for e in social] == sorted(e.t for e in social)
+
+
+def test_living_room_timeline(client):
+    world = build("living_room", client)
+    bodies = p.getNumBodies(physicsClientId=client)
+    events = run(world, 300.0)
+    assert "Tom" not in world.people_positions()
+    assert isinstance(events[0], SayEvent) and events[0].t == 15 and events[0].to == "robot"
+    assert "Taipei" in events[0].text
+    assert any(isinstance(e, EmotionEvent) and e.emotion == "happy" for e in events)
+    assert any(isinstance(e, EncourageEvent) for e in events)
+
+    run(world, 300.1, start=300.0)  # enters at the hall door, facing into the room
+    tom = world.people_positions()["Tom"]
+    assert (round(tom.x, 2), round(tom.y, 2)) == (1.0, 0.4)
+    assert math.isclose(tom.yaw, math.pi / 2)
+    assert p.getNumBodies(physicsClientId=client) == bodies + 1
+
+    run(world, 303.0, start=300.1)  # walking to (2.0, 2.4) at 0.9 m/s since 302
+    tom = world.people_positions()["Tom"]
+    travelled = math.hypot(tom.x - 1.0, tom.y - 0.4)
+    assert travelled == pytest.approx(0.9, abs=0.01)
+    assert tom.yaw == pytest.approx(math.atan2(2.0, 1.0))
+    run(world, 310.0, start=303.0)
+    tom = world.people_positions()["Tom"]
+    assert (tom.x, tom.y) == pytest.approx((2.0, 2.4))
+
+    events = run(world, 450.0, start=310.0)  # walks up to Grace, stopping short of her
+    assert [e.to for e in events if isinstance(e, SayEvent)][-1] == "Tom"
+    tom, grace = world.people_positions()["Tom"], world.people_positions()["Grace"]
+    assert math.hypot(tom.x - grace.x, tom.y - grace.y) == pytest.approx(0.7, abs=0.01)
+    assert tom.yaw == pytest.approx(math.atan2(grace.y - tom.y, grace.x - tom.x), abs=1e-6)
+
+    run(world, 520.0, start=450.0)  # left at 510
+    assert "Tom" not in world.people_positions()
+    assert p.getNumBodies(physicsClientId=client) == bodies
+
+
+def test_step_size_does_not_change_the_story(client):
+    coarse = build("birthday_party", client)
+    fine_client = p.connect(p.DIRECT)
+    try:
+        fine = build("birthday_party", fine_client)
+        a, b = run(coarse, 600.0, dt=1.0), run(fine, 600.0, dt=0.05)
+        assert a == b
+        here, there = coarse.people_positions(), fine.people_positions()
+        assert here.keys() == there.keys()
+        for name, pose in here.items():
+            assert pose == pytest.approx(there[name])
+    finally:
+        p.disconnect(fine_client)
+
+
+def test_re_entering_person_gets_a_new_body(client):
+    world = build("birthday_party", client)
+    run(world, 430.0)
+    first = world.people["Anna"]
+    run(world, 440.0, start=430.0)
+    assert "Anna" not in world.people
+    run(world, 530.0, start=440.0)
+    anna = world.people_positions()["Anna"]
+    assert (anna.x, anna.y) == pytest.approx((5.0, 3.4))
+    assert anna.yaw == pytest.approx(math.pi)
+    assert world.people["Anna"] is not first and first.body_id == -1
+
+
+def test_pose_events_change_the_body(client):
+    world = build("birthday_party", client)
+    mia = world.people["Mia"]
+    top = mia.aabb()[1][2]
+    run(world, 50.0)
+    assert mia.pose == "arms_raised" and mia.aabb()[1][2] > top + 0.15
+    run(world, 70.0, start=50.0)
+    assert mia.pose == "standing" and mia.aabb()[1][2] == pytest.approx(top, abs=1e-3)
+
+
+def _segment(client: int, eye: tuple, target: tuple, light: dict) -> np.ndarray:
+    view = p.computeViewMatrix(eye, target, (0, 0, 1))
+    proj = p.computeProjectionMatrixFOV(60, 320 / 240, 0.05, 20)
+    _, _, rgb, _, seg = p.getCameraImage(
+        320, 240, view, proj, renderer=p.ER_TINY_RENDERER,
+        flags=p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX, physicsClientId=client, **light)
+    assert np.asarray(rgb).reshape(240, 320, 4)[..., :3].std() > 10  # not a blank image
+    return np.asarray(seg).reshape(240, 320)
+
+
+def test_camera_sees_the_face_only_from_the_front(client):
+    world = build("living_room", client)
+    grace = world.people["Grace"]
+    head = (grace.aabb()[1][2] - 0.12)
+    eye, target = (grace.x + 1.6, grace.y, 1.1), (grace.x, grace.y, head)
+    light = world.light.camera_kwargs()
+
+    def pixels() -> tuple[int, int]:
+        seg = _segment(client, eye, target, light)
+        body, link = seg & ((1 << 24) - 1), (seg >> 24) - 1
+        mine = (body == grace.body_id) & (seg >= 0)
+        return int(mine.sum()), int((mine & (link == grace.face_link)).sum())
+
+    body_px, face_px = pixels()  # Grace faces +x: towards the camera
+    assert body_px > 1500 and face_px > 20
+    grace.place(grace.x, grace.y, math.pi)  # turned away
+    body_px, face_px = pixels()
+    assert body_px > 500 and face_px == 0
+
+
+def test_person_api(client):
+    look = Appearance(height=1.2, width=0.3, shirt=(1, 0, 0))
+    kid = create_person(client, look, 1.0, 2.0, 0.5)
+    assert kid.aabb()[1][2] == pytest.approx(1.2, abs=0.01)
+    assert kid.face_link == kid.links["face"] and kid.face_link >= 0
+    kid.set_pose("sitting")
+    assert kid.aabb()[1][2] < 1.0
+    kid.place(3.0, -1.0, math.pi)
+    pos, orn = p.getBasePositionAndOrientation(kid.body_id, physicsClientId=client)
+    assert pos[:2] == pytest.approx((3.0, -1.0))
+    assert p.getEulerFromQuaternion(orn)[2] == pytest.approx(math.pi, abs=1e-6)
+    with pytest.raises(ValueError):
+        kid.set_pose("dancing")  # type: ignore[arg-type]
+    kid.remove()
+    assert p.getNumBodies(physicsClientId=client) == 0
