@@ -1,12 +1,21 @@
-"""The ``companion`` command: one entry point with a subcommand per job."""
+"""The ``companion`` command: one entry point with a subcommand per job.
+
+Each domain keeps its own command-line module exposing any of ``add_train``, ``add_eval``,
+``add_data`` (each receives the subparsers of that group) and ``add_commands`` (receives
+the top-level subparsers); :data:`DOMAINS` lists those modules.
+"""
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 
 from app import __version__
-from app.policy import cli as policy_cli
+
+DOMAINS = ["app.policy.cli", "dialogue.cli"]
+GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
+          "data": "generate a data set"}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -16,26 +25,29 @@ def build_parser() -> argparse.ArgumentParser:
         description="An autonomous social companion robot with moods, in a PyBullet household.")
     parser.add_argument("--version", action="version", version=f"companion {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-
-    train = sub.add_parser("train", help="train a model",
-                           description="Train one of the project's models.")
-    policy_cli.add_train(train.add_subparsers(dest="model", required=True, metavar="MODEL"))
-
-    evaluate = sub.add_parser("eval", help="evaluate a model against its bars",
-                              description="Evaluate one of the project's models.")
-    policy_cli.add_eval(evaluate.add_subparsers(dest="model", required=True, metavar="MODEL"))
+    modules = [importlib.import_module(name) for name in DOMAINS]
+    for group, help_text in GROUPS.items():
+        hooks = [getattr(m, f"add_{group}") for m in modules if hasattr(m, f"add_{group}")]
+        if not hooks:
+            continue
+        group_parser = sub.add_parser(group, help=help_text, description=help_text.capitalize())
+        group_sub = group_parser.add_subparsers(dest="target", required=True, metavar="WHAT")
+        for hook in hooks:
+            hook(group_sub)
+    for m in modules:
+        if hasattr(m, "add_commands"):
+            m.add_commands(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; configuration and model-file errors exit with status 2."""
-    from app.config import ConfigError
-    from app.policy.agent import PolicyFileError
+    from app.errors import UserError
 
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (ConfigError, PolicyFileError, FileExistsError) as exc:
+    except (UserError, FileExistsError) as exc:
         print(f"companion: error: {exc}", file=sys.stderr)
         return 2
 

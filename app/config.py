@@ -14,12 +14,14 @@ from typing import Any, TypeVar
 import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError
 
+from app.errors import UserError
+
 DEFAULTS_DIR = Path(__file__).parent / "defaults"
 
 M = TypeVar("M", bound=BaseModel)
 
 
-class ConfigError(ValueError):
+class ConfigError(UserError, ValueError):
     """A configuration file is unreadable or invalid; ``problems`` lists ``path: message``."""
 
     def __init__(self, source: str, problems: list[str]) -> None:

@@ -7,13 +7,14 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from app.errors import UserError
 from app.personality import ACTIONS, MOTIVATIONS
 from app.policy.network import DuelingQNetwork
 
 DEFAULT_POLICY = Path(__file__).resolve().parents[2] / "assets" / "models" / "policy.pt"
 
 
-class PolicyFileError(RuntimeError):
+class PolicyFileError(UserError):
     """A policy file is missing, unreadable or does not match the expected shapes."""
 
 

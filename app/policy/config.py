@@ -40,6 +40,7 @@ class EnvConfig(StrictModel):
     """The abstract household the policy trains in."""
 
     episode_steps: int = Field(ge=1)
+    terminate_on_insecure: bool
     initial_drives: tuple[float, float]
     people: PeopleConfig
     encouragement: EncouragementConfig
@@ -60,9 +61,11 @@ class TrainConfig(StrictModel):
     seed: int
     num_envs: int = Field(ge=1)
     episode_steps: int = Field(ge=1)
+    terminate_on_insecure: bool
     total_transitions: int = Field(ge=1)
     gamma: float = Field(ge=0, le=1)
     learning_rate: float = Field(gt=0)
+    learning_rate_end: float | None = Field(default=None, gt=0)
     rmsprop_alpha: float = Field(gt=0, lt=1)
     rmsprop_eps: float = Field(gt=0)
     buffer_size: int = Field(ge=1)
@@ -75,6 +78,10 @@ class TrainConfig(StrictModel):
     exploration_fraction: float = Field(gt=0, le=1)
     max_grad_norm: float | None = Field(default=None, gt=0)
     checkpoint_every: int = Field(ge=1)
+    eval_every: int = Field(ge=1)
+    eval_episodes: int = Field(ge=1)
+    eval_seed: int
+    select_rsr: float = Field(ge=0, le=1)
 
 
 class PolicyConfig(StrictModel):

@@ -30,6 +30,7 @@ class Decisions:
     reward: np.ndarray        # eq. 3.7
     next_obs: np.ndarray      # motivations now (bootstrap target)
     decide_obs: np.ndarray    # motivations to decide on: next_obs, or a fresh episode's start
+    terminal: np.ndarray      # the robot became insecure during the action (when terminating)
     ended: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     episodes: list[dict] = field(default_factory=list)  # stats of those envs' episodes
 
@@ -69,6 +70,7 @@ class VecHomeostasisEnv:
         self.obs_at_choice = np.zeros((n, len(DRIVES)))
         self.t = np.zeros(n, dtype=np.int64)
         self.secure_steps = np.zeros(n, dtype=np.int64)
+        self.insecure_in_action = np.zeros(n, dtype=bool)
         self.high_steps = np.zeros((n, len(DRIVES)), dtype=np.int64)
         self.ep_return = np.zeros(n)
         self.ep_actions = np.zeros((n, len(ACTIONS)), dtype=np.int64)
@@ -108,6 +110,7 @@ class VecHomeostasisEnv:
         self.obs_at_choice[idx] = self.observe(idx)
         self.action[idx] = actions
         self.remaining[idx] = self.h.duration[actions]
+        self.insecure_in_action[idx] = False
         self.ep_actions[idx, actions] += 1
 
     # -- dynamics -------------------------------------------------------------------------
@@ -123,7 +126,9 @@ class VecHomeostasisEnv:
         self.t += 1
         self.ticks += 1
         self.remaining -= 1
-        self.secure_steps += self.h.secure(self.drives)
+        secure = self.h.secure(self.drives)
+        self.secure_steps += secure
+        self.insecure_in_action |= ~secure
         self.high_steps += self.drives >= self.h.personality.secure_threshold
         if self.trace is not None:
             self._record()
@@ -159,9 +164,10 @@ class VecHomeostasisEnv:
         action = self.action[idx].copy()
         reward = self.h.reward(action, self.obs_at_choice[idx], next_obs)
         self.ep_return[idx] += reward
+        terminal = self.insecure_in_action[idx] & self.cfg.terminate_on_insecure
         out = Decisions(idx, self.obs_at_choice[idx].copy(), action, reward, next_obs,
-                        next_obs.copy())
-        ended = idx[self.t[idx] >= self.cfg.episode_steps]
+                        next_obs.copy(), terminal)
+        ended = idx[(self.t[idx] >= self.cfg.episode_steps) | terminal]
         if len(ended):
             out.ended = ended
             out.episodes = [self.episode_stats(i) for i in ended]
@@ -170,7 +176,7 @@ class VecHomeostasisEnv:
         return out
 
     STATE = ("drives", "human", "heat", "encouraged_for", "action", "remaining", "obs_at_choice",
-             "t", "secure_steps", "high_steps", "ep_return", "ep_actions")
+             "t", "secure_steps", "insecure_in_action", "high_steps", "ep_return", "ep_actions")
 
     def state_dict(self) -> dict:
         """Everything needed to continue these episodes exactly (arrays and the RNG)."""

@@ -1,8 +1,10 @@
 """Dueling Double DQN training on the abstract household (thesis §3.2.6, Algorithm 4).
 
 One readable loop in the CleanRL manner: every hyper-parameter comes from the ``train``
-section of the policy YAML. Progress is written as it goes (a flushed CSV log, atomic
-resumable checkpoints), so an interrupted run continues with ``--resume``.
+section of the policy YAML. Progress is written as it goes (flushed CSV logs, atomic
+resumable checkpoints), so an interrupted run continues with ``--resume``. Every
+``eval_every`` updates the greedy policy plays validation episodes; the best one so far is
+exported as ``policy.pt``.
 """
 
 from __future__ import annotations
@@ -22,12 +24,15 @@ from tqdm import tqdm
 from app.checkpoint import atomic_torch_save
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, MOTIVATIONS, Personality
+from app.policy.agent import DQNPolicy
 from app.policy.config import PolicyConfig
 from app.policy.env import VecHomeostasisEnv
+from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
 from app.policy.replay import ReplayBuffer
 
 LOG_FIELDS = ["transitions", "updates", "episode", "return", "rsr", "epsilon", "wall_s"]
+EVAL_FIELDS = ["transitions", "updates", "rsr", "mean_reward", "best", "wall_s"]
 
 
 def linear_schedule(start: float, end: float, duration: float, t: float) -> float:
@@ -41,12 +46,45 @@ def export_policy(q: DuelingQNetwork, cfg: PolicyConfig, path: Path, meta: dict)
                        "meta": meta}, path)
 
 
+def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.optim.Optimizer,
+               batch: tuple[np.ndarray, ...], gamma: float,
+               max_grad_norm: float | None) -> float:
+    """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y."""
+    obs, act, rew, nxt, terminal = (torch.as_tensor(x) for x in batch)
+    q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
+    q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
+    with torch.no_grad():  # the online net picks the next action, the target net rates it
+        best = q_next.argmax(dim=1, keepdim=True)
+        y = rew + gamma * (1.0 - terminal) * target(nxt).gather(1, best).squeeze(1)
+    loss = F.mse_loss(q_obs.gather(1, act[:, None]).squeeze(1), y)
+    optimizer.zero_grad()
+    loss.backward()
+    if max_grad_norm is not None:
+        torch.nn.utils.clip_grad_norm_(q.parameters(), max_grad_norm)
+    optimizer.step()
+    return loss.item()
+
+
+def validate(q: DuelingQNetwork, homeostasis: Homeostasis, cfg: PolicyConfig) -> dict:
+    """Greedy performance on the validation episodes (seeds apart from the test seeds)."""
+    policy = DQNPolicy(copy.deepcopy(q))
+    episodes, _ = run_episodes(policy, homeostasis, cfg.env, cfg.train.eval_episodes,
+                               cfg.train.eval_seed)
+    return summarise(episodes)
+
+
+def selection_score(stats: dict, rsr_target: float) -> tuple[float, float]:
+    """Policies are ranked by secure rate up to the target, then by reward."""
+    return (min(stats["rsr"], rsr_target), stats["mean_reward"])
+
+
 def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bool = False,
           progress: bool = True) -> dict:
     """Train a policy into ``out_dir``; returns a summary with the exported policy path."""
     tc = cfg.train
     out_dir.mkdir(parents=True, exist_ok=True)
     ckpt_path, log_path = out_dir / "checkpoint.pt", out_dir / "train_log.csv"
+    eval_path = out_dir / "eval_log.csv"
     if ckpt_path.exists() and not resume:
         raise FileExistsError(f"{ckpt_path} exists: pass --resume to continue it, "
                               "or choose another --out")
@@ -55,7 +93,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     rng = np.random.default_rng(tc.seed)
 
     homeostasis = Homeostasis(personality)
-    env_cfg = cfg.env.model_copy(update={"episode_steps": tc.episode_steps})
+    env_cfg = cfg.env.model_copy(update={"episode_steps": tc.episode_steps,
+                                         "terminate_on_insecure": tc.terminate_on_insecure})
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.seed)
     n_obs, n_act = len(MOTIVATIONS), len(ACTIONS)
     q = DuelingQNetwork(n_obs, n_act, **cfg.network.model_dump())
@@ -66,6 +105,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     memory = ReplayBuffer(tc.buffer_size, n_obs)
     transitions = updates = episodes = 0
     credit, wall_offset = 0.0, 0.0
+    best: tuple[float, float] | None = None
 
     if ckpt_path.exists():
         state = torch.load(ckpt_path, map_location="cpu", weights_only=False)
@@ -78,12 +118,14 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         torch.set_rng_state(state["torch_rng"])
         transitions, updates, episodes = state["counters"]
         credit, wall_offset = state["credit"], state["wall_s"]
+        best = state["best"]
     else:
         (out_dir / "resolved_config.yaml").write_text(yaml.safe_dump(
             {"personality": personality.model_dump(by_alias=True, mode="json"),
              "policy": cfg.model_dump(mode="json")}, sort_keys=False))
-        with log_path.open("w", newline="") as fh:
-            csv.writer(fh).writerow(LOG_FIELDS)
+        for path, fields in ((log_path, LOG_FIELDS), (eval_path, EVAL_FIELDS)):
+            with path.open("w", newline="") as fh:
+                csv.writer(fh).writerow(fields)
 
     def save_checkpoint() -> None:
         atomic_torch_save({
@@ -91,9 +133,27 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             "optimizer": optimizer.state_dict(), "memory": memory.state_dict(),
             "env": env.state_dict(), "rng": rng.bit_generator.state,
             "torch_rng": torch.get_rng_state(),
-            "counters": (transitions, updates, episodes), "credit": credit,
+            "counters": (transitions, updates, episodes), "credit": credit, "best": best,
             "wall_s": wall_offset + time.perf_counter() - start,
         }, ckpt_path)
+
+    def validate_and_keep_best() -> None:
+        """Validate the greedy policy; export it when it beats the best so far."""
+        nonlocal best
+        stats = validate(q, homeostasis, cfg)
+        score = selection_score(stats, tc.select_rsr)
+        improved = best is None or score > best
+        wall = wall_offset + time.perf_counter() - start
+        if improved:
+            best = score
+            export_policy(q, cfg, out_dir / "policy.pt",
+                          {"transitions": transitions, "updates": updates, "seed": tc.seed,
+                           "validation_rsr": stats["rsr"],
+                           "validation_reward": stats["mean_reward"]})
+        with eval_path.open("a", newline="") as fh:
+            csv.writer(fh).writerow([transitions, updates, f"{stats['rsr']:.6f}",
+                                     f"{stats['mean_reward']:.2f}", int(improved),
+                                     f"{wall:.1f}"])
 
     def choose(obs: np.ndarray) -> np.ndarray:
         eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
@@ -115,7 +175,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     try:
         while transitions < tc.total_transitions:
             d = env.advance()
-            memory.add(d.obs, d.action, d.reward, d.next_obs)
+            memory.add(d.obs, d.action, d.reward, d.next_obs, d.terminal)
             transitions += len(d.idx)
             bar.update(len(d.idx))
             env.act(d.idx, choose(d.decide_obs))
@@ -138,22 +198,17 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             credit += len(d.idx) * tc.updates_per_transition
             while credit >= 1.0:
                 credit -= 1.0
-                obs, act, rew, nxt = (torch.as_tensor(x) for x in
-                                      memory.sample(rng, tc.batch_size))
-                q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
-                q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
-                with torch.no_grad():  # Double DQN: the online net picks, the target rates
-                    best = q_next.argmax(dim=1, keepdim=True)
-                    y = rew + tc.gamma * target(nxt).gather(1, best).squeeze(1)
-                loss = F.mse_loss(q_obs.gather(1, act[:, None]).squeeze(1), y)
-                optimizer.zero_grad()
-                loss.backward()
-                if tc.max_grad_norm is not None:
-                    torch.nn.utils.clip_grad_norm_(q.parameters(), tc.max_grad_norm)
-                optimizer.step()
+                if tc.learning_rate_end is not None:
+                    for group in optimizer.param_groups:
+                        group["lr"] = linear_schedule(tc.learning_rate, tc.learning_rate_end,
+                                                      tc.total_transitions, transitions)
+                dqn_update(q, target, optimizer, memory.sample(rng, tc.batch_size), tc.gamma,
+                           tc.max_grad_norm)
                 updates += 1
                 if updates % tc.target_sync_updates == 0:
                     target.load_state_dict(q.state_dict())
+                if updates % tc.eval_every == 0:
+                    validate_and_keep_best()
                 if updates % tc.checkpoint_every == 0:
                     save_checkpoint()
     except KeyboardInterrupt:
@@ -162,10 +217,11 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     finally:
         bar.close()
         log_file.close()
+    validate_and_keep_best()
     save_checkpoint()
     wall = wall_offset + time.perf_counter() - start
     summary = {"transitions": transitions, "updates": updates, "episodes": episodes,
-               "wall_s": round(wall, 1), "seed": tc.seed}
-    export_policy(q, cfg, out_dir / "policy.pt", summary)
+               "wall_s": round(wall, 1), "seed": tc.seed,
+               "best_validation": {"rsr": best[0], "mean_reward": best[1]}}
     (out_dir / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary

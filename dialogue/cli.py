@@ -1,0 +1,231 @@
+"""Command line of the dialogue domain: ``companion chat`` and ``companion eval dialogue``.
+
+Run without the project's wiring as ``python -m dialogue.cli chat`` (or ``... eval``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, TextIO
+
+from dialogue.intent import HELDOUT_FILE, MODES
+from dialogue.qa.base import DialogueError
+
+REPO = Path(__file__).resolve().parents[1]
+DEFAULT_SCENARIO = REPO / "worlds" / "living_room.yaml"
+ROUTING_BAR = 0.95
+HELP = """Type a question or just talk. Commands:
+  /mode auto|qa|chitchat|<category>   route every line this way (the tablet buttons)
+  /mood positive|negative|auto        force the mood, or go back to the computed one
+  /context                            show what I remember
+  /help, /quit"""
+
+
+def add_commands(sub: argparse._SubParsersAction) -> None:
+    """Register ``chat`` under the top-level subcommands."""
+    p = sub.add_parser("chat", help="talk to the robot: QA bot and chit-chat, by mood",
+                       description="Interactive dialogue with the robot. Each line is routed "
+                                   "to a QA category or to chit-chat; the reply, any action "
+                                   "and what the tablet shows are printed.")
+    p.add_argument("--mood", choices=("positive", "negative"),
+                   help="force the mood (default: computed from the robot's drives)")
+    p.add_argument("--json", action="store_true",
+                   help="scripting: read lines from stdin, print one JSON object per line")
+    p.add_argument("--mode", choices=MODES, default="auto", help="route every line this way")
+    p.add_argument("--scenario", type=Path, default=None,
+                   help="scenario YAML for the household map and the robot's drives "
+                        "(default: worlds/living_room.yaml for the map, drives all 0)")
+    p.add_argument("--weather", type=Path, default=None,
+                   help="weather block file (default: dialogue/data/weather_sample.yaml)")
+    p.add_argument("--feed", type=Path, default=None,
+                   help="RSS/Atom file for news (default: dialogue/data/news_sample.xml)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="folder for rendered maps (default: a new temporary folder)")
+    p.set_defaults(func=run_chat)
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``dialogue`` under ``companion eval``."""
+    p = sub.add_parser("dialogue", help="routing accuracy and reply latency on the held-out "
+                                        "utterances")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--heldout", type=Path, default=HELDOUT_FILE,
+                   help="labelled utterances (label<TAB>text)")
+    p.set_defaults(func=run_eval)
+
+
+def robot_mood(drives: Mapping[str, float] | None = None,
+               personality: Path | None = None) -> tuple[str, float, float]:
+    """``(mood, v_mood, threshold)`` from eq. 3.6 with no encouragement and no emotion.
+
+    ``drives`` defaults to all zero, the scenario default for ``robot.drives``.
+    """
+    import numpy as np
+
+    from app.homeostasis import Homeostasis
+    from app.personality import DRIVES, load_personality
+
+    h = Homeostasis(load_personality(personality))
+    d = np.array([float((drives or {}).get(k, 0.0)) for k in DRIVES])
+    v = float(h.mood_value(d, 0.0, 0.0))
+    positive = bool(h.mood_positive(v))
+    return ("positive" if positive else "negative"), v, h.personality.mood.threshold
+
+
+def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | None, Any]:
+    """The manager for ``chat`` and the scenario's drives and personality (or Nones)."""
+    from app.scenario import load_scenario
+    from dialogue.manager import DialogueManager
+    from dialogue.qa.bot import QABot, load_weather
+    from dialogue.qa.household import plan_from_scenario
+    from dialogue.qa.news import SAMPLE_FEED
+
+    drives, personality, household = None, None, None
+    if args.scenario is not None:
+        scenario = load_scenario(args.scenario)
+        drives, personality = scenario.robot.drives.model_dump(), scenario.personality
+        household = plan_from_scenario(scenario)
+    elif DEFAULT_SCENARIO.is_file():
+        household = plan_from_scenario(load_scenario(DEFAULT_SCENARIO))
+    if args.feed is not None and not args.feed.is_file():
+        raise DialogueError(f"{args.feed}: news feed not found")
+    out = args.out or Path(tempfile.mkdtemp(prefix="companion-chat-"))
+    qa = QABot(weather=load_weather(args.weather) if args.weather else load_weather(),
+               feed=args.feed or SAMPLE_FEED, household=household, out_dir=out)
+    return DialogueManager(qa), drives, personality
+
+
+def _print_reply(reply: Any, out: TextIO) -> None:
+    print(f"robot [{reply.route}]: {reply.text}", file=out)
+    if reply.action is not None:
+        params = " ".join(f"{k}={v}" for k, v in reply.action.params.items())
+        print(f"  action: {reply.action.name} {params}".rstrip(), file=out)
+    if reply.tablet:
+        print(f"  tablet: {reply.tablet}", file=out)
+
+
+def _command(line: str, manager: Any, state: dict[str, Any], out: TextIO) -> bool:
+    """Handle a /command; False means quit."""
+    cmd, _, arg = line[1:].strip().partition(" ")
+    arg = arg.strip()
+    if cmd in ("quit", "exit", "q"):
+        return False
+    if cmd == "mode" and arg in MODES:
+        manager.context.mode = arg
+        print(f"mode: {arg}", file=out)
+    elif cmd == "mood" and arg in ("positive", "negative", "auto"):
+        state["mood"] = state["computed"] if arg == "auto" else arg
+        print(f"mood: {state['mood']}", file=out)
+    elif cmd == "context":
+        c = manager.context
+        print(f"name: {c.name}, last topic: {c.last_topic}, last route: {c.last_route}, "
+              f"mode: {c.mode}", file=out)
+    else:
+        print(HELP, file=out)
+    return True
+
+
+def run_chat(args: argparse.Namespace, stdin: TextIO | None = None,
+             stdout: TextIO | None = None) -> int:
+    """The ``chat`` REPL (or, with ``--json``, one JSON reply per stdin line)."""
+    stdin, out = stdin or sys.stdin, stdout or sys.stdout
+    manager, drives, personality = build_manager(args)
+    manager.context.mode = args.mode
+    computed, value, threshold = robot_mood(drives, personality)
+    state = {"computed": computed, "mood": args.mood or computed}
+    if args.json:
+        for raw in stdin:
+            reply = manager.respond(raw, state["mood"])
+            print(json.dumps({"input": raw.rstrip("\n"), **reply.to_dict()}), file=out,
+                  flush=True)
+        return 0
+    source = "forced by --mood" if args.mood else (
+        f"v_mood {value:.2f} {'<=' if computed == 'positive' else '>'} threshold "
+        f"{threshold:g}, drives {'from the scenario' if drives else 'all 0'}")
+    print(f"Robot mood: {state['mood']} ({source}). Maps go to {manager.qa.out_dir}.",
+          file=out)
+    print("Type /help for commands, /quit to leave.", file=out, flush=True)
+    interactive = stdin is sys.stdin
+    while True:
+        try:
+            line = input("you> ") if interactive else _readline(stdin, out)
+        except (EOFError, KeyboardInterrupt):
+            print(file=out)
+            return 0
+        if line.strip().startswith("/"):
+            if not _command(line, manager, state, out):
+                return 0
+            continue
+        _print_reply(manager.respond(line, state["mood"]), out)
+        out.flush()
+
+
+def _readline(stdin: TextIO, out: TextIO) -> str:
+    print("you> ", end="", file=out, flush=True)
+    line = stdin.readline()
+    if not line:
+        raise EOFError
+    return line
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """``companion eval dialogue``: routing accuracy on the held-out set and reply latency."""
+    from dialogue.intent import evaluate_routing
+    from dialogue.manager import DialogueContext, DialogueManager
+    from dialogue.qa.bot import QABot
+
+    result = evaluate_routing(path=args.heldout)
+    from dialogue.intent import load_utterances
+
+    with tempfile.TemporaryDirectory(prefix="companion-eval-") as tmp:
+        manager = DialogueManager(QABot.offline(out_dir=tmp))
+        times = []
+        for _, text in load_utterances(args.heldout):
+            t0 = time.perf_counter()
+            manager.respond(text, "positive", DialogueContext())
+            times.append((time.perf_counter() - t0) * 1000)
+    result["latency_ms_median"] = statistics.median(times)
+    if args.json:
+        keys = ("routing_accuracy", "latency_ms_median", "routing_ms_median", "n", "per_label",
+                "misses")
+        print(json.dumps({k: result[k] for k in keys}))
+        return 0
+    ok = "meets" if result["routing_accuracy"] >= ROUTING_BAR else "BELOW"
+    print(f"routing accuracy: {result['routing_accuracy']:.3f} on {result['n']} held-out "
+          f"utterances ({ok} the bar of {ROUTING_BAR})")
+    for label, acc in result["per_label"].items():
+        print(f"  {label:<15} {acc:.3f}")
+    print(f"reply latency: median {result['latency_ms_median']:.1f} ms per utterance "
+          f"(routing alone {result['routing_ms_median']:.1f} ms)")
+    for m in result["misses"]:
+        print(f"  misrouted: {m['text']!r} -> {m['got']} (expected {m['expected']})")
+    print("chit-chat perplexity: not measured here (comes with the chit-chat model)")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Stand-alone entry: ``python -m dialogue.cli chat|eval [options]``."""
+    from app.errors import UserError
+
+    parser = argparse.ArgumentParser(prog="python -m dialogue.cli")
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_commands(sub)
+    eval_parser = sub.add_parser("eval", help="evaluate the dialogue system")
+    add_eval(eval_parser.add_subparsers(dest="target", required=True))
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except UserError as exc:
+        print(f"companion: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

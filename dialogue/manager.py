@@ -1,0 +1,196 @@
+"""The dialogue manager (thesis §3.3, Fig. 3.9): route each utterance to the QA bot or to
+chit-chat, keep a short context, and return the reply with any side effect for the robot.
+
+Chit-chat and the mood-driven style transfer plug in through two small protocols,
+:class:`ChitChat` and :class:`StyleTransfer`; without a chit-chat model the manager says
+so (route ``chitchat_unavailable``) instead of inventing an answer.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+import unicodedata
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal, Protocol, runtime_checkable
+
+from dialogue.intent import CHITCHAT, MODES, IntentClassifier
+from dialogue.qa import CATEGORIES
+from dialogue.qa.base import Action, Answer, DialogueError
+from dialogue.qa.text import content_words, normalise
+
+if TYPE_CHECKING:
+    from dialogue.qa.bot import QABot
+
+log = logging.getLogger("companion.dialogue")
+
+Mood = Literal["positive", "negative"]
+MAX_CHARS = 500  # longer input is cut here
+HISTORY = 10  # turns kept in the context
+FOLLOWABLE = ("time", "weather", "news", "information", "related_topics", "map")
+FOLLOW_UP = re.compile(r"^(?:and|what about|how about|and what about|and how about)\b", re.I)
+INTRO = re.compile(r"\b(?:my name is|my name's|call me|i am called|i'm called)\s+"
+                   r"([A-Za-z][\w'-]*(?-i: [A-Z][\w'-]*)?)", re.I)
+ASK_NAME = re.compile(r"\b(?:what(?:'s| is) my name|do you (?:know|remember) my name)\b", re.I)
+UNAVAILABLE = ("I'm sorry, my chit-chat model isn't loaded, so I can't chat freely right now. "
+               "I can tell you the time or the weather, read the news, look things up, show "
+               "the map, sing a song or take a photo.")
+
+
+@dataclass
+class DialogueContext:
+    """What the manager remembers about one conversation."""
+
+    name: str | None = None
+    last_topic: str | None = None
+    last_route: str | None = None
+    mode: str = "auto"  # "auto", "qa", "chitchat" or a QA category (the tablet buttons)
+    history: deque[tuple[str, str]] = field(default_factory=lambda: deque(maxlen=HISTORY))
+
+
+@runtime_checkable
+class ChitChat(Protocol):
+    """A chit-chat model: one reply to one utterance."""
+
+    def reply(self, text: str, context: DialogueContext) -> str:
+        """The model's reply to ``text``."""
+        ...
+
+
+@runtime_checkable
+class StyleTransfer(Protocol):
+    """Mood-driven style transfer of sentences to ``to`` = "positive" or "negative"."""
+
+    def translate(self, sentences: list[str], to: str) -> list[str]:
+        """The sentences rewritten in the style ``to``."""
+        ...
+
+
+@dataclass(frozen=True)
+class Reply:
+    """What the robot says, through which route, any action, and what the tablet shows."""
+
+    text: str
+    route: str
+    action: Action | None = None
+    tablet: str | None = None
+    mood: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for logs and ``--json`` output."""
+        return {"text": self.text, "route": self.route,
+                "action": self.action.to_dict() if self.action else None,
+                "tablet": self.tablet, "mood": self.mood}
+
+
+def clean_input(text: object, max_chars: int = MAX_CHARS) -> str:
+    """``text`` as a single line: control characters removed, spaces collapsed, length cut."""
+    s = text if isinstance(text, str) else "" if text is None else str(text)
+    s = s[: max_chars * 4]
+    s = "".join(" " if unicodedata.category(c) in ("Cc", "Zl", "Zp") else c for c in s
+                if unicodedata.category(c) not in ("Cf", "Cs", "Co", "Cn"))
+    return " ".join(s.split())[:max_chars].strip()
+
+
+class DialogueManager:
+    """Answers one utterance at a time; see :meth:`respond`."""
+
+    def __init__(self, qa: QABot | None = None, *, classifier: IntentClassifier | None = None,
+                 chitchat: ChitChat | None = None, style: StyleTransfer | None = None,
+                 on_reply: Callable[[dict[str, Any]], None] | None = None,
+                 max_chars: int = MAX_CHARS) -> None:
+        from dialogue.qa.bot import QABot
+
+        self.qa = qa if qa is not None else QABot.offline()
+        self.classifier = classifier or IntentClassifier.default()
+        self.chitchat = chitchat
+        self.style = style
+        self.on_reply = on_reply
+        self.max_chars = max_chars
+        self.context = DialogueContext()
+
+    def respond(self, text: str, mood: Mood | bool = "positive",
+                context: DialogueContext | None = None) -> Reply:
+        """Reply to ``text``. ``mood`` (or True for positive) styles chit-chat replies;
+        ``context`` defaults to the manager's own. Never raises for any input text; a bad
+        ``mood`` or ``context.mode`` is a :class:`DialogueError`."""
+        mood = ("positive" if mood else "negative") if isinstance(mood, bool) else mood
+        if mood not in ("positive", "negative"):
+            raise DialogueError(f"mood must be 'positive' or 'negative', got {mood!r}")
+        ctx = context if context is not None else self.context
+        if ctx.mode not in MODES:
+            raise DialogueError(f"unknown mode {ctx.mode!r}; choose from {', '.join(MODES)}")
+        said = clean_input(text, self.max_chars)
+        try:
+            reply = self._respond(said, mood, ctx)
+        except Exception:  # the robot must keep talking whatever goes wrong inside
+            log.exception("dialogue failed on %r", said)
+            reply = Reply("Sorry, something went wrong while I was thinking about that.",
+                          "error", mood=mood)
+        ctx.history.append((said, reply.text))
+        record = {"input": said, **reply.to_dict()}
+        log.info("reply %s", record)
+        if self.on_reply:
+            self.on_reply(record)
+        return reply
+
+    def _respond(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
+        if not normalise(said):
+            return Reply("Sorry, I didn't catch that. Could you say it again?", "empty",
+                         mood=mood)
+        if ASK_NAME.search(said):
+            text = (f"Your name is {ctx.name}." if ctx.name
+                    else "You haven't told me your name yet. What is it?")
+            return Reply(text, "context", mood=mood)
+        greeting = ""
+        intro = INTRO.search(said)
+        if intro:
+            ctx.name = intro.group(1).strip().title()
+            greeting = f"Nice to meet you, {ctx.name}!"
+            said = (said[:intro.start()] + said[intro.end():]).strip(" ,.!;")
+            if not content_words(said):
+                return Reply(greeting, "introduction", mood=mood)
+        route = self._route(said, ctx)
+        if route == CHITCHAT:
+            reply = self._chitchat(said, mood, ctx)
+        else:
+            answer: Answer = self.qa.answer(route, said, last_topic=ctx.last_topic,
+                                            name=ctx.name)
+            if answer.topic:
+                ctx.last_topic = answer.topic
+            reply = Reply(answer.text, route, answer.action, answer.tablet, mood)
+        ctx.last_route = reply.route
+        if greeting:
+            reply = Reply(f"{greeting} {reply.text}", reply.route, reply.action, reply.tablet,
+                          mood)
+        return reply
+
+    def _route(self, said: str, ctx: DialogueContext) -> str:
+        intent = self.classifier.classify(said, ctx.mode)
+        if (intent.source == "model" and ctx.last_route in FOLLOWABLE
+                and FOLLOW_UP.search(said) and not set(intent.cues) - {ctx.last_route}):
+            return ctx.last_route  # "And in Paris?" after a time question: same category
+        return intent.label
+
+    def _chitchat(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
+        if self.chitchat is None:
+            return Reply(UNAVAILABLE, "chitchat_unavailable", mood=mood)
+        try:
+            text = self.chitchat.reply(said, ctx).strip()
+        except Exception:
+            log.exception("chit-chat model failed on %r", said)
+            return Reply("Sorry, I lost my train of thought. Could you say that again?",
+                         "chitchat_error", mood=mood)
+        if self.style is not None and text:
+            try:
+                styled = self.style.translate([text], mood)
+                text = (styled[0].strip() or text) if styled else text
+            except Exception:
+                log.exception("style transfer failed on %r", text)
+        return Reply(text or "Hmm.", CHITCHAT, mood=mood)
+
+
+__all__ = ["CATEGORIES", "ChitChat", "DialogueContext", "DialogueManager", "Reply",
+           "StyleTransfer", "clean_input"]

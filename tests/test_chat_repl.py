@@ -1,0 +1,124 @@
+"""``companion chat`` under a pseudo-terminal, its ``--json`` mode, and ``eval dialogue``."""
+
+import argparse
+import io
+import json
+import os
+import select
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from dialogue.cli import add_commands, add_eval, main, robot_mood, run_chat
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def parser() -> argparse.ArgumentParser:
+    """A throwaway parser wired like ``app/cli.py`` does it."""
+    p = argparse.ArgumentParser(prog="companion")
+    sub = p.add_subparsers(dest="command", required=True)
+    add_commands(sub)
+    group = sub.add_parser("eval").add_subparsers(dest="target", required=True)
+    add_eval(group)
+    return p
+
+
+class Terminal:
+    """Read from a pty master until a marker shows up."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd, self.buf = fd, ""
+
+    def until(self, marker: str, timeout: float = 60.0) -> str:
+        import time
+
+        end = time.monotonic() + timeout
+        while marker not in self.buf:
+            left = end - time.monotonic()
+            assert left > 0, f"no {marker!r} in {self.buf!r}"
+            ready, _, _ = select.select([self.fd], [], [], left)
+            if ready:
+                try:
+                    chunk = os.read(self.fd, 4096)
+                except OSError:
+                    chunk = b""
+                assert chunk, f"terminal closed before {marker!r}: {self.buf!r}"
+                self.buf += chunk.decode(errors="replace")
+        seen, _, self.buf = self.buf.partition(marker)
+        return seen
+
+
+def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
+    master, slave = os.openpty()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "dialogue.cli", "chat", "--mood", "negative", "--out",
+         str(tmp_path)], stdin=slave, stdout=slave, stderr=slave, cwd=REPO, close_fds=True)
+    os.close(slave)
+    term = Terminal(master)
+    try:
+        banner = term.until("you> ")
+        assert "Robot mood: negative (forced by --mood)" in banner
+        os.write(master, b"Can you play 'Happy Birthday' for Mia?\n")
+        out = term.until("you> ")
+        assert "robot [music]" in out and "action: sing_dance song=happy birthday" in out
+        os.write(master, b"where is the teddy?\n")
+        out = term.until("you> ")
+        assert "robot [map]" in out and "tablet: " in out and ".png" in out
+        os.write(master, b"\x01\x02 how are you? \x7f\n")
+        assert "chitchat_unavailable" in term.until("you> ")
+        os.write(master, b"/quit\n")
+        assert proc.wait(timeout=30) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
+
+
+def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
+    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
+    stdin = io.StringIO("What time is it in Sydney?\n\nWho was Mozart?\n" + "y" * 10_000 + "\n")
+    stdout = io.StringIO()
+    assert run_chat(args, stdin, stdout) == 0
+    rows = [json.loads(line) for line in stdout.getvalue().splitlines()]
+    assert [r["route"] for r in rows] == ["time", "empty", "information",
+                                          "chitchat_unavailable"]
+    assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood"} for r in rows)
+    assert rows[0]["mood"] == "positive" and rows[2]["tablet"].startswith("https://")
+
+
+def test_piped_repl_commands(tmp_path: Path) -> None:
+    args = parser().parse_args(["chat", "--out", str(tmp_path),
+                                "--scenario", str(REPO / "worlds" / "birthday_party.yaml")])
+    stdin = io.StringIO("/mode chitchat\nwhat time is it?\n/mode auto\n/mood negative\n"
+                        "/context\nwhere is the cake?\n/bogus\n")
+    stdout = io.StringIO()
+    assert run_chat(args, stdin, stdout) == 0
+    out = stdout.getvalue()
+    assert "drives from the scenario" in out and "mode: chitchat" in out
+    assert "robot [chitchat_unavailable]" in out and "mood: negative" in out
+    assert "The cake is on the cake table" in out and "/mode auto|qa|chitchat" in out
+
+
+def test_mood_from_default_drives() -> None:
+    mood, value, threshold = robot_mood()
+    assert (mood, value, threshold) == ("positive", 0.0, 0.43)
+    assert robot_mood({d: 1.0 for d in ("energy", "safety_rest", "belonging")})[0] == "negative"
+
+
+def test_eval_dialogue_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["eval", "dialogue", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["routing_accuracy"] >= 0.95 and result["n"] >= 200
+    assert 0 < result["latency_ms_median"] < 1000
+
+
+def test_user_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["chat", "--feed", str(tmp_path / "none.xml")]) == 2
+    assert "news feed not found" in capsys.readouterr().err
+    bad = tmp_path / "weather.yaml"
+    bad.write_text("cities: {Rome: {today: {temp_c: 3}}}\n")
+    assert main(["chat", "--weather", str(bad)]) == 2
+    assert "condition" in capsys.readouterr().err
