@@ -1,0 +1,163 @@
+"""Style transfer: a tiny seeded training run, resume, model files and the command line."""
+
+import argparse
+import csv
+import io
+import itertools
+import json
+
+import pytest
+import torch
+from style_helpers import one_thread, tiny_config, write_corpus
+
+from app.errors import UserError
+from dialogue import style_cli
+from dialogue.style import StyleTransfer, replace_unknown
+from dialogue.style_config import load_style_config
+from dialogue.style_data import SPECIALS, Vocab
+from dialogue.style_io import StyleModelError
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _one_thread():
+    with one_thread():
+        yield
+
+
+@pytest.fixture(scope="module")
+def data_dir(tmp_path_factory):
+    return write_corpus(tmp_path_factory.mktemp("yelp"))
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory, data_dir):
+    """A tiny model trained through the CLI handler and exported to a model folder."""
+    root = tmp_path_factory.mktemp("run")
+    args = argparse.Namespace(config=tiny_config(root, data_dir), out=root / "out",
+                              resume=False, data=None, no_style_autoencoder=False,
+                              export=root / "models", no_progress=True)
+    assert style_cli.run_train(args) == 0
+    return root
+
+
+# --- training -----------------------------------------------------------------------------
+
+def read_log(path):
+    with path.open() as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_tiny_training_lowers_each_loss(trained):
+    out = trained / "out"
+    checks = {"classifier": ["loss"], "lm": ["nll"], "pretrain": ["style", "lm_enc", "lm_gen"],
+              "reconstruct": ["rec"], "adversarial": ["rec", "cycle", "disc"]}
+    for phase, fields in checks.items():
+        rows = read_log(out / f"log_{phase}.csv")
+        for f in fields:
+            assert float(rows[-1][f]) < float(rows[0][f]), (phase, f)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["classifier"]["test_accuracy"] > 0.9
+    assert len(read_log(out / "valid_log.csv")) == 6
+    assert {p.name for p in (trained / "models").iterdir()} == {"style.pt", "classifier.pt",
+                                                                "lm.pt"}
+
+
+def test_existing_run_needs_resume(trained):
+    args = argparse.Namespace(config=trained / "tiny.yaml", out=trained / "out", resume=False,
+                              data=None, no_style_autoencoder=False, export=None,
+                              no_progress=True)
+    with pytest.raises(FileExistsError):
+        style_cli.run_train(args)
+
+
+def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monkeypatch):
+    from dialogue import style_train
+
+    cfg = load_style_config(tiny_config(tmp_path, data_dir, adv=12))
+    cfg = cfg.model_copy(update={"model": cfg.model.model_copy(
+        update={"style_autoencoder": False})})  # the ablation trains too
+    style_train.train(cfg, tmp_path / "whole", progress=False)
+    real, calls = style_train.transfer_losses, itertools.count()
+
+    def interrupt(*a, **k):
+        if len(a) == 4 and next(calls) == 7:  # the 8th adversarial step
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(style_train, "transfer_losses", interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        style_train.train(cfg, tmp_path / "cut", progress=False)
+    monkeypatch.setattr(style_train, "transfer_losses", real)
+    style_train.train(cfg, tmp_path / "cut", resume=True, progress=False)
+    a = torch.load(tmp_path / "whole" / "style.pt", weights_only=True)["state_dict"]
+    b = torch.load(tmp_path / "cut" / "style.pt", weights_only=True)["state_dict"]
+    assert all(torch.equal(a[k], b[k]) for k in a)
+    for log in ("log_adversarial.csv", "valid_log.csv"):
+        assert [r["step"] for r in read_log(tmp_path / "cut" / log)] == ["10", "12"]
+
+
+# --- loading, translating, the command line ----------------------------------------------
+
+def test_missing_and_corrupt_weights_are_user_errors(tmp_path, trained):
+    with pytest.raises(StyleModelError, match="not found"):
+        StyleTransfer.load(tmp_path / "none.pt")
+    (tmp_path / "bad.pt").write_bytes(b"not a checkpoint")
+    with pytest.raises(StyleModelError, match="not a readable model file"):
+        StyleTransfer.load(tmp_path / "bad.pt")
+    with pytest.raises(StyleModelError, match="not a style file"):
+        StyleTransfer.load(trained / "models" / "classifier.pt")
+    assert issubclass(StyleModelError, UserError)
+
+
+def test_translate_keeps_one_output_per_input_and_the_confidence_rule(trained):
+    st = StyleTransfer.load(trained / "models" / "style.pt")
+    inputs = ["the food was cold .", "", "The pizza was stale!"]
+    details = st.translate_detailed(inputs, "positive")
+    assert len(details) == 3 and details[1].text == ""
+    for d, src in zip(details, inputs, strict=True):
+        assert d.text == (src if d.kept_original else d.transferred)
+    assert "cold" in st.style_words and "food" not in st.style_words
+    assert st.content_overlap(["the", "food", "was", "cold"], ["the", "food", "is", "hot"]) == 1
+    assert st.content_overlap(["the", "food", "was", "cold"], ["my", "day", "was", "ok"]) == 0
+    with pytest.raises(ValueError, match="to must be"):
+        st.translate(["x"], "sarcastic")
+
+
+def test_unknown_words_are_copied_from_the_source():
+    v = Vocab([*SPECIALS, "the", "was"])
+    assert replace_unknown(["the", "<unk>", "was", "<unk>"], ["the", "zorb", "was"], v) == [
+        "the", "zorb", "was"]
+
+
+def parser_for(hook):
+    parser = argparse.ArgumentParser()
+    sub = parser.add_subparsers(dest="cmd", required=True)
+    getattr(style_cli, hook)(sub)
+    return parser
+
+
+def test_cli_style_sentences_and_batch_mode(trained, capsys, monkeypatch):
+    model = str(trained / "models" / "style.pt")
+    args = parser_for("add_commands").parse_args(
+        ["style", "--to", "positive", "--model", model, "the food was cold ."])
+    assert args.func(args) == 0
+    assert len(capsys.readouterr().out.splitlines()) == 1
+    monkeypatch.setattr("sys.stdin", io.StringIO("the food was cold .\n\nrude staff .\n"))
+    args = parser_for("add_commands").parse_args(["style", "--to", "negative", "--model", model])
+    assert args.func(args) == 0
+    assert len(capsys.readouterr().out.splitlines()) == 3
+    args = parser_for("add_commands").parse_args(
+        ["style", "--to", "negative", "--model", str(trained / "nothing.pt"), "hi"])
+    with pytest.raises(StyleModelError):
+        args.func(args)
+
+
+def test_cli_eval_json(trained, capsys):
+    args = parser_for("add_eval").parse_args(
+        ["style", "--model-dir", str(trained / "models"), "--json", "--limit", "20",
+         "--out", str(trained / "eval")])
+    assert args.func(args) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert {"accuracy", "self_bleu", "perplexity", "classifier_accuracy"} <= set(result)
+    assert result["sentences"] == 20 and 0 <= result["accuracy"] <= 1
+    assert "Table 4.5" in (trained / "eval" / "examples.md").read_text()
