@@ -9,6 +9,8 @@ from typing import Any
 
 import torch
 
+from app.errors import UserError
+
 
 def atomic_torch_save(obj: Any, path: str | Path) -> None:
     """``torch.save`` to a temporary file in the same folder, then rename it over ``path``."""
@@ -16,6 +18,7 @@ def atomic_torch_save(obj: Any, path: str | Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
+        os.fchmod(fd, 0o644)  # mkstemp creates private files; checkpoints are ordinary ones
         with os.fdopen(fd, "wb") as fh:
             torch.save(obj, fh)
             fh.flush()
@@ -24,3 +27,15 @@ def atomic_torch_save(obj: Any, path: str | Path) -> None:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def read_weights(path: str | Path, error: type[UserError], missing_hint: str) -> Any:
+    """``torch.load`` a model file safely (``weights_only``), raising ``error`` with the path
+    when the file is missing (adding ``missing_hint``) or unreadable."""
+    path = Path(path)
+    if not path.is_file():
+        raise error(f"{path}: model file not found ({missing_hint})")
+    try:
+        return torch.load(path, map_location="cpu", weights_only=True)
+    except Exception as exc:
+        raise error(f"{path}: not a readable model file ({exc})") from None

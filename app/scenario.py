@@ -269,6 +269,26 @@ class Lighting(StrictModel):
     shadows: bool = False
 
 
+class WeatherDay(StrictModel):
+    """One day's weather in one city (answers the dialogue's weather questions)."""
+
+    condition: str = Field(min_length=1)
+    temp_c: float
+    low_c: float | None = None
+    high_c: float | None = None
+    rain_chance: float | None = Field(default=None, ge=0, le=100)
+    wind_kmh: float | None = Field(default=None, ge=0)
+    humidity: float | None = Field(default=None, ge=0, le=100)
+
+
+class Weather(StrictModel):
+    """A scenario's weather block: days by city (see dialogue/qa/weather.py)."""
+
+    home: str | None = None
+    source: str | None = None
+    cities: dict[str, dict[str, WeatherDay]] = Field(min_length=1)
+
+
 class Scenario(StrictModel):
     """A household scenario (see docs/scenarios.md for every key)."""
 
@@ -287,6 +307,7 @@ class Scenario(StrictModel):
     dock: Placement
     robot: Robot
     people: tuple[PersonSpec, ...] = ()
+    weather: Weather | None = None
 
     @model_validator(mode="after")
     def _rates(self) -> Scenario:

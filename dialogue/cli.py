@@ -11,7 +11,7 @@ import statistics
 import sys
 import tempfile
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -81,15 +81,18 @@ def robot_mood(drives: Mapping[str, float] | None = None,
 
 def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | None, Any]:
     """The manager for ``chat`` and the scenario's drives and personality (or Nones)."""
+    from app.camera import scenario_camera
     from app.scenario import load_scenario
     from dialogue.manager import DialogueManager
     from dialogue.qa.bot import QABot, load_weather
     from dialogue.qa.household import plan_from_scenario
     from dialogue.qa.news import SAMPLE_FEED
 
-    drives, personality, household = None, None, None
+    drives, personality, household, scenario_weather = None, None, None, None
+    scenario_path = args.scenario or DEFAULT_SCENARIO
     if args.scenario is not None:
         scenario = load_scenario(args.scenario)
+        scenario_weather = scenario.weather
         drives, personality = scenario.robot.drives.model_dump(), scenario.personality
         household = plan_from_scenario(scenario)
     elif DEFAULT_SCENARIO.is_file():
@@ -97,9 +100,37 @@ def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | Non
     if args.feed is not None and not args.feed.is_file():
         raise DialogueError(f"{args.feed}: news feed not found")
     out = args.out or Path(tempfile.mkdtemp(prefix="companion-chat-"))
-    qa = QABot(weather=load_weather(args.weather) if args.weather else load_weather(),
-               feed=args.feed or SAMPLE_FEED, household=household, out_dir=out)
-    return DialogueManager(qa), drives, personality
+    if args.weather:
+        weather = load_weather(args.weather)
+    elif scenario_weather is not None:
+        weather = load_weather(scenario_weather.model_dump(exclude_none=True))
+    else:
+        weather = load_weather()
+    qa = QABot(weather=weather,
+               feed=args.feed or SAMPLE_FEED, household=household, out_dir=out,
+               take_photo=scenario_camera(scenario_path, out))
+    manager = DialogueManager(qa, chitchat=shipped_chitchat(),
+                              on_reply=reply_logger(Path(out) / "dialogue.jsonl"))
+    return manager, drives, personality
+
+
+def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
+    """Append each reply (with its route, action and tablet) to a JSON-lines file, flushed."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+
+    def log(record: dict[str, Any]) -> None:
+        with path.open("a", encoding="utf-8") as fh:
+            fh.write(json.dumps(record, default=str) + "\n")
+
+    return log
+
+
+def shipped_chitchat() -> Any:
+    """The shipped chit-chat model, or None while none has been trained."""
+    from dialogue.chat_config import DEFAULT_CHAT_MODEL
+    from dialogue.chat_model import ChitChatModel
+
+    return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
 
 
 def _print_reply(reply: Any, out: TextIO) -> None:
@@ -185,17 +216,18 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.intent import load_utterances
 
     with tempfile.TemporaryDirectory(prefix="companion-eval-") as tmp:
-        manager = DialogueManager(QABot.offline(out_dir=tmp))
+        manager = DialogueManager(QABot.offline(out_dir=tmp), chitchat=shipped_chitchat())
         times = []
         for _, text in load_utterances(args.heldout):
             t0 = time.perf_counter()
             manager.respond(text, "positive", DialogueContext())
             times.append((time.perf_counter() - t0) * 1000)
     result["latency_ms_median"] = statistics.median(times)
+    chat = chat_model_metrics()
     if args.json:
         keys = ("routing_accuracy", "latency_ms_median", "routing_ms_median", "n", "per_label",
                 "misses")
-        print(json.dumps({k: result[k] for k in keys}))
+        print(json.dumps({**{k: result[k] for k in keys}, **chat}))
         return 0
     ok = "meets" if result["routing_accuracy"] >= ROUTING_BAR else "BELOW"
     print(f"routing accuracy: {result['routing_accuracy']:.3f} on {result['n']} held-out "
@@ -206,8 +238,25 @@ def run_eval(args: argparse.Namespace) -> int:
           f"(routing alone {result['routing_ms_median']:.1f} ms)")
     for m in result["misses"]:
         print(f"  misrouted: {m['text']!r} -> {m['got']} (expected {m['expected']})")
-    print("chit-chat perplexity: not measured here (comes with the chit-chat model)")
+    if chat:
+        print(f"chit-chat perplexity on held-out pairs: {chat['chat_perplexity']:.1f} "
+              f"(unigram baseline {chat['unigram_perplexity']:.1f}); distinct-1/2 "
+              f"{chat['distinct_1']:.3f}/{chat['distinct_2']:.3f}")
+    else:
+        print("chit-chat perplexity: no chit-chat model (train one with `companion train chat`)")
     return 0
+
+
+def chat_model_metrics() -> dict[str, float]:
+    """Held-out chit-chat figures of the shipped model (empty while none is shipped)."""
+    from dialogue.chat_cli import chat_metrics
+    from dialogue.chat_config import DEFAULT_CHAT_MODEL
+
+    if not DEFAULT_CHAT_MODEL.is_file():
+        return {}
+    metrics = chat_metrics(DEFAULT_CHAT_MODEL)
+    return {k: metrics[k] for k in ("chat_perplexity", "unigram_perplexity", "distinct_1",
+                                    "distinct_2")}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -11,10 +11,9 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-import torch
 from torch import nn
 
-from app.checkpoint import atomic_torch_save
+from app.checkpoint import atomic_torch_save, read_weights
 from app.errors import UserError
 from dialogue.style_config import (
     REPO_ROOT,
@@ -54,14 +53,7 @@ def save_model(path: Path, kind: str, vocab: Vocab, config: dict[str, Any],
 
 def read_model_file(path: Path, kind: str) -> dict[str, Any]:
     """The stored dict of a model file, checked for its kind."""
-    path = Path(path)
-    if not path.is_file():
-        raise StyleModelError(f"{path}: style model file not found (train one with "
-                              "`companion train style`)")
-    try:
-        blob = torch.load(path, map_location="cpu", weights_only=True)
-    except Exception as exc:
-        raise StyleModelError(f"{path}: not a readable model file ({exc})") from None
+    blob = read_weights(path, StyleModelError, "train one with `companion train style`")
     if not isinstance(blob, dict) or blob.get("format") != FORMAT or blob.get("kind") != kind:
         raise StyleModelError(f"{path}: not a {kind} file of the style-transfer system")
     return blob

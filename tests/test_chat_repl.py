@@ -68,7 +68,7 @@ def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
         out = term.until("you> ")
         assert "robot [map]" in out and "tablet: " in out and ".png" in out
         os.write(master, b"\x01\x02 how are you? \x7f\n")
-        assert "chitchat_unavailable" in term.until("you> ")
+        assert "robot [chitchat]" in term.until("you> ")
         os.write(master, b"/quit\n")
         assert proc.wait(timeout=30) == 0
     finally:
@@ -84,7 +84,7 @@ def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
     assert run_chat(args, stdin, stdout) == 0
     rows = [json.loads(line) for line in stdout.getvalue().splitlines()]
     assert [r["route"] for r in rows] == ["time", "empty", "information",
-                                          "chitchat_unavailable"]
+                                          "chitchat"]
     assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood"} for r in rows)
     assert rows[0]["mood"] == "positive" and rows[2]["tablet"].startswith("https://")
 
@@ -98,7 +98,7 @@ def test_piped_repl_commands(tmp_path: Path) -> None:
     assert run_chat(args, stdin, stdout) == 0
     out = stdout.getvalue()
     assert "drives from the scenario" in out and "mode: chitchat" in out
-    assert "robot [chitchat_unavailable]" in out and "mood: negative" in out
+    assert "robot [chitchat]" in out and "mood: negative" in out
     assert "The cake is on the cake table" in out and "/mode auto|qa|chitchat" in out
 
 
@@ -122,3 +122,27 @@ def test_user_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     bad.write_text("cities: {Rome: {today: {temp_c: 3}}}\n")
     assert main(["chat", "--weather", str(bad)]) == 2
     assert "condition" in capsys.readouterr().err
+
+
+def test_photo_is_a_real_head_camera_frame(tmp_path: Path) -> None:
+    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
+    stdout = io.StringIO()
+    assert run_chat(args, io.StringIO("Please take a photo of us\n"), stdout) == 0
+    row = json.loads(stdout.getvalue())
+    assert row["route"] == "photo" and row["tablet"].endswith(".png")
+    import cv2
+
+    image = cv2.imread(row["tablet"])
+    assert image.shape == (240, 320, 3) and image.std() > 10  # a rendered scene, not blank
+    logged = json.loads((tmp_path / "dialogue.jsonl").read_text().splitlines()[-1])
+    assert logged["tablet"] == row["tablet"] and logged["route"] == "photo"
+
+
+def test_scenario_weather_answers_weather_questions(tmp_path: Path) -> None:
+    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path), "--scenario",
+                                str(REPO / "worlds" / "low_battery_night.yaml")])
+    stdout = io.StringIO()
+    stdin = io.StringIO("How cold is it going to be in Berlin tomorrow?\n")
+    assert run_chat(args, stdin, stdout) == 0
+    row = json.loads(stdout.getvalue())
+    assert row["route"] == "weather" and "-4" in row["text"]

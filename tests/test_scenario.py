@@ -89,7 +89,10 @@ def _set(data: dict, path: str, value: object) -> dict:
 BROKEN = [
     ("people.0.events.0.at", -1,
      "people[0].events[0].at: Input should be greater than or equal to 0"),
-    ("weather", "sunny", "weather: unknown key"),
+    ("climate", "sunny", "climate: unknown key"),
+    ("weather", {"cities": {"Oslo": {"today": {"condition": "snow", "temp_c": -3,
+                                                "humidity": 120}}}},
+     "weather.cities.Oslo.today.humidity: Input should be less than or equal to 100"),
     ("people.0.body", {"shirt": "blue"},
      "people[0].body.shirt: Value error, expected a colour like '#3a7bd5', got 'blue'"),
     ("people.0.events.0", {"at": 5, "say": {"text": "Hi Bob!", "to": "Bob"}},

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from app.checkpoint import read_weights
 from app.errors import UserError
 from app.personality import ACTIONS, MOTIVATIONS
 from app.policy.network import DuelingQNetwork
@@ -27,12 +28,8 @@ class DQNPolicy:
     @classmethod
     def load(cls, path: str | Path = DEFAULT_POLICY) -> DQNPolicy:
         """Load weights written by :func:`app.policy.train.export_policy`."""
-        path = Path(path)
-        if not path.is_file():
-            raise PolicyFileError(f"{path}: policy file not found "
-                                  "(train one with `companion train policy`)")
+        blob = read_weights(path, PolicyFileError, "train one with `companion train policy`")
         try:
-            blob = torch.load(path, map_location="cpu", weights_only=True)
             net = DuelingQNetwork(len(MOTIVATIONS), len(ACTIONS), **blob["network"])
             net.load_state_dict(blob["state_dict"])
         except Exception as exc:  # any corruption or mismatch ends up here

@@ -23,32 +23,13 @@ from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 from urllib.parse import quote
 
-from pydantic import Field, ValidationError
+from pydantic import ValidationError
 
-from app.config import StrictModel, format_loc
+from app.config import format_loc
+from app.scenario import Weather, WeatherDay
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.places import find_place, lookup
 from dialogue.qa.text import normalise
-
-
-class Day(StrictModel):
-    """One day's weather for one city."""
-
-    condition: str = Field(min_length=1)
-    temp_c: float
-    low_c: float | None = None
-    high_c: float | None = None
-    rain_chance: float | None = Field(default=None, ge=0, le=100)
-    wind_kmh: float | None = Field(default=None, ge=0)
-    humidity: float | None = Field(default=None, ge=0, le=100)
-
-
-class Block(StrictModel):
-    """A scenario's weather block."""
-
-    home: str | None = None
-    source: str | None = None
-    cities: dict[str, dict[str, Day]] = Field(min_length=1)
 
 
 @dataclass(frozen=True)
@@ -57,7 +38,7 @@ class WeatherReport:
 
     city: str
     day: str
-    day_data: Day
+    day_data: WeatherDay
     source: str
 
 
@@ -81,12 +62,12 @@ class ScenarioWeather:
 
     def __init__(self, block: Mapping[str, Any], source: str = "weather block") -> None:
         try:
-            self.block = Block.model_validate(dict(block))
+            self.block = Weather.model_validate(dict(block))
         except ValidationError as exc:
             problems = "; ".join(f"{format_loc(e['loc'])}: {e['msg']}" for e in exc.errors())
             raise DialogueError(f"{source}: invalid weather block: {problems}") from None
         self.home_city = self.block.home
-        self._cities: dict[str, tuple[str, dict[str, Day]]] = {}
+        self._cities: dict[str, tuple[str, dict[str, WeatherDay]]] = {}
         for name, days in self.block.cities.items():
             place = lookup(name)
             canonical = place.name if place else name

@@ -1,0 +1,119 @@
+"""Command line of the chit-chat bot: ``companion train chat`` and ``chat_metrics``.
+
+Run without the project's wiring as ``python -m dialogue.chat_cli train chat [options]`` or
+``python -m dialogue.chat_cli eval chat [--model PATH] [--json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from pathlib import Path
+from typing import Any
+
+from dialogue.chat_config import DEFAULT_CHAT_MODEL
+
+PERPLEXITY_RATIO_BAR = 3.0
+LATENCY_BAR_MS = 100.0
+SIZE_BAR_MB = 25.0
+METRIC_KEYS = ("chat_perplexity", "unigram_perplexity", "distinct_1", "distinct_2",
+               "latency_ms_median")
+
+
+def add_train(sub: argparse._SubParsersAction) -> None:
+    """Register ``train chat``."""
+    p = sub.add_parser("chat", help="train the seq2seq chit-chat bot (LSTM with attention)",
+                       description="Train the chit-chat encoder-decoder on Papaya and the "
+                       "English chatterbot corpus. Writes checkpoint.pt (resumable), "
+                       "train_log.csv, eval_log.csv, data_counts.json and chat.pt (best "
+                       "validation perplexity) into --out.")
+    p.add_argument("--config", type=Path, help="chat YAML overriding app/defaults/chat.yaml")
+    p.add_argument("--out", type=Path, default=Path("runs/train-chat"), help="run folder")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--export", type=Path,
+                   help="also copy the best model here (e.g. assets/models/chat.pt)")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    p.set_defaults(func=run_train)
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``eval chat`` (the stand-alone entry; ``eval dialogue`` merges the metrics)."""
+    p = sub.add_parser("chat", help="held-out perplexity, baseline, distinct-n and latency")
+    p.add_argument("--model", type=Path, default=DEFAULT_CHAT_MODEL, help="model file")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run_eval)
+
+
+def run_train(args: argparse.Namespace) -> int:
+    """Handler of ``companion train chat``."""
+    from dialogue.chat_config import load_chat_config
+    from dialogue.chat_train import MODEL_FILE, train
+
+    cfg = load_chat_config(args.config)
+    summary = train(cfg, args.out, resume=args.resume,
+                    progress=not getattr(args, "no_progress", False))
+    if args.export:
+        args.export.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(args.out / MODEL_FILE, args.export)
+        summary["exported"] = str(args.export)
+    print(json.dumps(summary, indent=2))
+    return 0
+
+
+def chat_metrics(model_path: str | Path = DEFAULT_CHAT_MODEL) -> dict[str, Any]:
+    """The chit-chat metrics for ``companion eval dialogue``: the five ``METRIC_KEYS`` plus
+    ``perplexity_ratio``, ``model_mb``, ``test_pairs``, ``examples`` and ``meets_bars``.
+
+    Raises :class:`~dialogue.chat_model.ChatModelError` (a ``UserError``) for a missing or
+    corrupt file and ``ChatDataError`` when the data behind its test split is missing.
+    """
+    from dialogue.chat_eval import evaluate_file
+
+    result = evaluate_file(model_path)
+    result["meets_bars"] = {
+        "perplexity_ratio": result["perplexity_ratio"] >= PERPLEXITY_RATIO_BAR,
+        "latency_ms_median": result["latency_ms_median"] <= LATENCY_BAR_MS,
+        "model_mb": result["model_mb"] <= SIZE_BAR_MB}
+    return result
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """Handler of ``eval chat``: print the metrics (``--json``: one object)."""
+    r = chat_metrics(args.model)
+    if args.json:
+        print(json.dumps({k: v for k, v in r.items() if k != "examples_markdown"}))
+        return 0
+    ok = {k: "meets" if v else "BELOW" for k, v in r["meets_bars"].items()}
+    print(f"chit-chat perplexity (held out, {r['test_pairs']} pairs): "
+          f"{r['chat_perplexity']:.2f}; unigram baseline {r['unigram_perplexity']:.2f}; "
+          f"ratio {r['perplexity_ratio']:.2f} ({ok['perplexity_ratio']} the bar of "
+          f"{PERPLEXITY_RATIO_BAR:g}x)")
+    print(f"distinct-1 {r['distinct_1']:.3f}, distinct-2 {r['distinct_2']:.3f}")
+    print(f"reply latency: median {r['latency_ms_median']:.1f} ms "
+          f"({ok['latency_ms_median']} the bar of {LATENCY_BAR_MS:g} ms)")
+    print(f"model file: {r['model_mb']:.1f} MB ({ok['model_mb']} the bar of "
+          f"{SIZE_BAR_MB:g} MB)\n")
+    print(r["examples_markdown"])
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Stand-alone entry: ``python -m dialogue.chat_cli train|eval chat [options]``."""
+    from app.errors import UserError
+
+    parser = argparse.ArgumentParser(prog="python -m dialogue.chat_cli")
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_train(sub.add_parser("train").add_subparsers(dest="target", required=True))
+    add_eval(sub.add_parser("eval").add_subparsers(dest="target", required=True))
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (UserError, FileExistsError) as exc:
+        print(f"companion: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())
