@@ -1,15 +1,11 @@
-"""Command line of the chit-chat bot: ``companion train chat`` and ``chat_metrics``.
-
-Run without the project's wiring as ``python -m dialogue.chat_cli train chat [options]`` or
-``python -m dialogue.chat_cli eval chat [--model PATH] [--json]``.
-"""
+"""Command line of the chit-chat bot: ``companion train chat``, ``companion eval chat`` and
+``chat_metrics`` (merged into ``companion eval dialogue``)."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import shutil
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -98,22 +94,3 @@ def run_eval(args: argparse.Namespace) -> int:
     print(r["examples_markdown"])
     return 0
 
-
-def main(argv: list[str] | None = None) -> int:
-    """Stand-alone entry: ``python -m dialogue.chat_cli train|eval chat [options]``."""
-    from app.errors import UserError
-
-    parser = argparse.ArgumentParser(prog="python -m dialogue.chat_cli")
-    sub = parser.add_subparsers(dest="command", required=True)
-    add_train(sub.add_parser("train").add_subparsers(dest="target", required=True))
-    add_eval(sub.add_parser("eval").add_subparsers(dest="target", required=True))
-    args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except (UserError, FileExistsError) as exc:
-        print(f"companion: error: {exc}", file=sys.stderr)
-        return 2
-
-
-if __name__ == "__main__":
-    sys.exit(main())

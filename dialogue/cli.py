@@ -1,7 +1,4 @@
-"""Command line of the dialogue domain: ``companion chat`` and ``companion eval dialogue``.
-
-Run without the project's wiring as ``python -m dialogue.cli chat`` (or ``... eval``).
-"""
+"""Command line of the dialogue domain: ``companion chat`` and ``companion eval dialogue``."""
 
 from __future__ import annotations
 
@@ -258,23 +255,3 @@ def chat_model_metrics() -> dict[str, float]:
     return {k: metrics[k] for k in ("chat_perplexity", "unigram_perplexity", "distinct_1",
                                     "distinct_2")}
 
-
-def main(argv: list[str] | None = None) -> int:
-    """Stand-alone entry: ``python -m dialogue.cli chat|eval [options]``."""
-    from app.errors import UserError
-
-    parser = argparse.ArgumentParser(prog="python -m dialogue.cli")
-    sub = parser.add_subparsers(dest="command", required=True)
-    add_commands(sub)
-    eval_parser = sub.add_parser("eval", help="evaluate the dialogue system")
-    add_eval(eval_parser.add_subparsers(dest="target", required=True))
-    args = parser.parse_args(argv)
-    try:
-        return args.func(args)
-    except UserError as exc:
-        print(f"companion: error: {exc}", file=sys.stderr)
-        return 2
-
-
-if __name__ == "__main__":
-    sys.exit(main())

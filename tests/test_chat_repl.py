@@ -1,6 +1,5 @@
 """``companion chat`` under a pseudo-terminal, its ``--json`` mode, and ``eval dialogue``."""
 
-import argparse
 import io
 import json
 import os
@@ -11,19 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from dialogue.cli import add_commands, add_eval, main, robot_mood, run_chat
+from app.cli import build_parser, main
+from dialogue.cli import robot_mood, run_chat
 
 REPO = Path(__file__).resolve().parents[1]
-
-
-def parser() -> argparse.ArgumentParser:
-    """A throwaway parser wired like ``app/cli.py`` does it."""
-    p = argparse.ArgumentParser(prog="companion")
-    sub = p.add_subparsers(dest="command", required=True)
-    add_commands(sub)
-    group = sub.add_parser("eval").add_subparsers(dest="target", required=True)
-    add_eval(group)
-    return p
 
 
 class Terminal:
@@ -54,7 +44,7 @@ class Terminal:
 def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
     master, slave = os.openpty()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "dialogue.cli", "chat", "--mood", "negative", "--out",
+        [sys.executable, "-m", "app.cli", "chat", "--mood", "negative", "--out",
          str(tmp_path)], stdin=slave, stdout=slave, stderr=slave, cwd=REPO, close_fds=True)
     os.close(slave)
     term = Terminal(master)
@@ -78,7 +68,7 @@ def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
 
 
 def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
-    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
+    args = build_parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
     stdin = io.StringIO("What time is it in Sydney?\n\nWho was Mozart?\n" + "y" * 10_000 + "\n")
     stdout = io.StringIO()
     assert run_chat(args, stdin, stdout) == 0
@@ -90,7 +80,7 @@ def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
 
 
 def test_piped_repl_commands(tmp_path: Path) -> None:
-    args = parser().parse_args(["chat", "--out", str(tmp_path),
+    args = build_parser().parse_args(["chat", "--out", str(tmp_path),
                                 "--scenario", str(REPO / "worlds" / "birthday_party.yaml")])
     stdin = io.StringIO("/mode chitchat\nwhat time is it?\n/mode auto\n/mood negative\n"
                         "/context\nwhere is the cake?\n/bogus\n")
@@ -125,7 +115,7 @@ def test_user_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
 
 
 def test_photo_is_a_real_head_camera_frame(tmp_path: Path) -> None:
-    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
+    args = build_parser().parse_args(["chat", "--json", "--out", str(tmp_path)])
     stdout = io.StringIO()
     assert run_chat(args, io.StringIO("Please take a photo of us\n"), stdout) == 0
     row = json.loads(stdout.getvalue())
@@ -139,7 +129,7 @@ def test_photo_is_a_real_head_camera_frame(tmp_path: Path) -> None:
 
 
 def test_scenario_weather_answers_weather_questions(tmp_path: Path) -> None:
-    args = parser().parse_args(["chat", "--json", "--out", str(tmp_path), "--scenario",
+    args = build_parser().parse_args(["chat", "--json", "--out", str(tmp_path), "--scenario",
                                 str(REPO / "worlds" / "low_battery_night.yaml")])
     stdout = io.StringIO()
     stdin = io.StringIO("How cold is it going to be in Berlin tomorrow?\n")
