@@ -1,0 +1,65 @@
+"""Schema of ``app/defaults/detector.yaml`` (the detector's data recipe)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Self
+
+from pydantic import Field, NonNegativeInt, PositiveInt, model_validator
+
+from app.config import StrictModel, load_model
+
+
+class SplitsConfig(StrictModel):
+    """Frames per split."""
+
+    train: NonNegativeInt
+    val: NonNegativeInt
+    test: NonNegativeInt
+
+
+class ImageConfig(StrictModel):
+    """Rendered image size (pixels)."""
+
+    width: PositiveInt
+    height: PositiveInt
+
+
+class DataConfig(StrictModel):
+    """How ``companion data detector`` renders its frames and which boxes it keeps."""
+
+    splits: SplitsConfig
+    seed: NonNegativeInt
+    image: ImageConfig
+    distance: tuple[float, float]
+    people_per_frame: tuple[NonNegativeInt, NonNegativeInt]
+    empty_fraction: float = Field(ge=0.0, le=1.0)
+    furniture_per_frame: tuple[NonNegativeInt, NonNegativeInt]
+    edge_margin_deg: float = Field(ge=0.0, le=45.0)
+    examples: NonNegativeInt
+    min_box_px: PositiveInt
+    min_width_px: PositiveInt
+    min_face_px: PositiveInt
+    min_visible_fraction: float = Field(ge=0.0, le=1.0)
+    face_max_angle_deg: float = Field(gt=0.0, le=180.0)
+
+    @model_validator(mode="after")
+    def _ranges(self) -> Self:
+        for name in ("distance", "people_per_frame", "furniture_per_frame"):
+            lo, hi = getattr(self, name)
+            if lo > hi:
+                raise ValueError(f"{name}: lower bound {lo} exceeds upper bound {hi}")
+        if self.distance[0] <= 0:
+            raise ValueError("distance: must be positive")
+        return self
+
+
+class DetectorConfig(StrictModel):
+    """Schema of ``app/defaults/detector.yaml``."""
+
+    data: DataConfig
+
+
+def load_detector_config(path: str | Path | None = None) -> DetectorConfig:
+    """The packaged detector.yaml, with the user file at ``path`` merged over it."""
+    return load_model(DetectorConfig, "detector.yaml", path)
