@@ -4,28 +4,44 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= runs/demo
+WORLD  ?= worlds/living_room.yaml
 
-.PHONY: setup demo test lint bench clean
+.PHONY: setup demo test lint bench tts snapshots clean
 
 setup: $(STAMP)
 
 # torch and torchvision come as a matching pair from the package registry: `--isolated`
 # keeps pip away from locally configured wheel folders that hold an unmatched torch build.
+# ultralytics pulls the GUI build of OpenCV; both builds own the `cv2` package, so the GUI
+# one is removed and the headless one (same version) reinstalled over it.
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip --isolated install --quiet $$(grep -E '^(torch|torchvision)==' constraints.txt)
 	$(BIN)/pip install --quiet -c constraints.txt -e '.[dev]'
+	$(BIN)/pip uninstall --quiet -y opencv-python
+	$(BIN)/pip install --quiet --force-reinstall --no-deps $$(grep -E '^opencv-python-headless==' constraints.txt)
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/companion eval policy --episodes 100 --seed 0 --out $(OUT)
+	$(BIN)/companion run $(WORLD) --out $(OUT)
 
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/pytest
 
+# Refresh the behaviour-tree snapshots in tests/snapshots/ after an intended change.
+snapshots: $(STAMP)
+	UPDATE_SNAPSHOTS=1 $(BIN)/pytest -q tests/test_tree_snapshots.py
+
 bench: $(STAMP)
 	$(BIN)/python bench/bench_env.py
+
+# Optional: espeak-ng renders the robot's sentences to WAV files (app/speech.py); without it
+# speech is only logged. Debian/Ubuntu package; sudo is used when not run as root.
+SUDO = $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+tts:
+	$(SUDO) apt-get update
+	$(SUDO) apt-get install -y espeak-ng
 
 clean:
 	rm -rf $(VENV) runs

@@ -68,12 +68,16 @@ class Homeostasis:
         lin_growth = d + n * self.rate
         return np.minimum(np.where(self.exponential, exp_growth, lin_growth), 1.0)
 
-    def step(self, drives: np.ndarray, action: ArrayLike) -> np.ndarray:
-        """Drives after one step during which ``action`` (an index into ACTIONS) runs."""
+    def step(self, drives: np.ndarray, action: ArrayLike, relieve: ArrayLike = True
+             ) -> np.ndarray:
+        """Drives after one step during which ``action`` (an index into ACTIONS) runs.
+        ``relieve`` false means the action is under way but not yet satisfying its drive
+        (the robot still drives to the dock, say): growth as during the action, no relief."""
         d = np.asarray(drives, dtype=np.float64)
         a = np.asarray(action)
         d = np.where(self.drifts[a], self.grow(d), d)
-        return np.clip(d - self.relief[a], 0.0, 1.0)
+        relief = self.relief[a] * np.asarray(relieve, dtype=np.float64)[..., None]
+        return np.clip(d - relief, 0.0, 1.0)
 
     # -- motivations, reward, security ----------------------------------------------------
     def motivations(self, drives: np.ndarray, stimuli: np.ndarray) -> np.ndarray:

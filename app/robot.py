@@ -509,6 +509,12 @@ class Robot:
         """State of charge in [0, 1]."""
         return self._battery.level
 
+    def set_battery(self, level: float) -> None:
+        """Set the state of charge (a household run keeps it equal to 1 - energy drive)."""
+        if not 0.0 <= level <= 1.0:
+            raise ValueError(f"battery level must lie in [0, 1], got {level}")
+        self._battery.level = float(level)
+
     @property
     def charging(self) -> bool:
         """True between :meth:`start_charging` and :meth:`stop_charging` (docked)."""

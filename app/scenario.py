@@ -257,6 +257,19 @@ class Robot(StrictModel):
     battery: Unit = 1.0
     drives: InitialDrives = InitialDrives()  # type: ignore[valid-type]
 
+    @model_validator(mode="after")
+    def _energy_is_battery(self) -> Robot:
+        # One quantity: the energy drive is the battery's emptiness (docs/behaviours.md).
+        if ("energy" in self.drives.model_fields_set
+                and abs(self.drives.energy - (1.0 - self.battery)) > 0.02):
+            raise ValueError(f"drives.energy: {self.drives.energy} contradicts battery "
+                             f"{self.battery}; the energy drive is 1 - battery (leave it out)")
+        return self
+
+    def initial_drives(self) -> dict[str, float]:
+        """Drives at time 0, with energy = 1 - battery."""
+        return {**self.drives.model_dump(), "energy": 1.0 - self.battery}
+
 
 class Lighting(StrictModel):
     """TinyRenderer light: direction (towards the light), colour and shading coefficients."""

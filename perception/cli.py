@@ -45,3 +45,66 @@ def run_data(args: argparse.Namespace) -> int:
     print(f"rendered {sum(done.values())} of {total} frames into {args.out} "
           f"({', '.join(f'{k} {v}' for k, v in done.items())})")
     return 0
+
+
+def add_train(sub: argparse._SubParsersAction) -> None:
+    """Register ``train detector``."""
+    p = sub.add_parser("detector", help="train the person-and-face YOLO detector",
+                       description="Train ultralytics YOLO from its model yaml (no pretrained "
+                       "weights) on a data set from `companion data detector`, on the CPU. "
+                       "The run folder keeps weights/last.pt after every epoch (--resume).")
+    p.add_argument("--data", type=Path, default=Path("runs/detector-data"),
+                   help="data set folder (or its data.yaml)")
+    p.add_argument("--out", type=Path, default=Path("runs/train-detector"), help="run folder")
+    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
+    p.add_argument("--epochs", type=int, help="override train.epochs")
+    p.add_argument("--resume", action="store_true", help="continue the run in --out")
+    p.add_argument("--export", type=Path,
+                   help="copy the best weights here (e.g. assets/models/detector.pt)")
+    p.set_defaults(func=run_train)
+
+
+def run_train(args: argparse.Namespace) -> int:
+    """Handler of ``companion train detector``."""
+    from perception.detector_config import load_detector_config
+    from perception.detector_train import train_detector
+
+    cfg = load_detector_config(args.config).train
+    if args.epochs is not None:
+        if args.epochs <= 0:
+            raise argparse.ArgumentTypeError("--epochs must be > 0")
+        cfg = cfg.model_copy(update={"epochs": args.epochs})
+    best = train_detector(cfg, args.data, args.out, resume=args.resume, export=args.export)
+    print(f"best weights: {best}" + (f" (copied to {args.export})" if args.export else ""))
+    return 0
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``eval detector``."""
+    p = sub.add_parser("detector", help="mAP and CPU latency of the detector",
+                       description="Person and face mAP on a held-out split of a rendered "
+                       "data set and the median CPU latency of one 320x240 frame (100 calls).")
+    p.add_argument("--weights", type=Path, help="YOLO weights (default: the shipped detector)")
+    p.add_argument("--data", type=Path, default=Path("runs/detector-data"),
+                   help="data set folder (or its data.yaml)")
+    p.add_argument("--split", default="test", choices=("train", "val", "test"))
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--out", type=Path, help="also write the figures to this JSON file")
+    p.set_defaults(func=run_eval)
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """Handler of ``companion eval detector``."""
+    import json
+
+    from perception.detector_train import evaluate_detector, write_json
+
+    figures = evaluate_detector(args.weights, args.data, args.split)
+    if args.out:
+        write_json(figures, args.out)
+    if args.json:
+        print(json.dumps(figures))
+    else:
+        for key, value in figures.items():
+            print(f"{key:20s} {value:.4f}" if isinstance(value, float) else f"{key:20s} {value}")
+    return 0

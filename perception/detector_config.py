@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Self
+from typing import Any, Self
 
 from pydantic import Field, NonNegativeInt, PositiveInt, model_validator
 
@@ -54,10 +54,43 @@ class DataConfig(StrictModel):
         return self
 
 
+class TrainConfig(StrictModel):
+    """The ultralytics training run of ``companion train detector``."""
+
+    model: str = Field(min_length=1)
+    imgsz: PositiveInt
+    epochs: PositiveInt
+    batch: PositiveInt
+    workers: NonNegativeInt
+    seed: NonNegativeInt
+    optimizer: str
+    lr0: float = Field(gt=0)
+    cos_lr: bool
+    close_mosaic: NonNegativeInt
+    patience: PositiveInt
+    extra: dict[str, Any]
+
+    def ultralytics_args(self) -> dict[str, Any]:
+        """Keyword arguments for ``YOLO.train`` (everything but the model yaml)."""
+        args = self.model_dump(exclude={"model", "extra"})
+        return {**args, **self.extra}
+
+
+class DetectConfig(StrictModel):
+    """How the detector runs on camera frames."""
+
+    weights: Path | None = None
+    imgsz: PositiveInt
+    conf: float = Field(gt=0.0, lt=1.0)
+    iou: float = Field(gt=0.0, lt=1.0)
+
+
 class DetectorConfig(StrictModel):
     """Schema of ``app/defaults/detector.yaml``."""
 
     data: DataConfig
+    train: TrainConfig
+    detect: DetectConfig
 
 
 def load_detector_config(path: str | Path | None = None) -> DetectorConfig:

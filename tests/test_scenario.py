@@ -177,3 +177,13 @@ def test_yes_no_style_keys_do_not_sneak_in(tmp_path):
     path.write_text(yaml.safe_dump(minimal()).replace("on_top_of:", "on:"))
     with pytest.raises(ConfigError):
         load_scenario(path)
+
+
+def test_energy_drive_is_the_battery(tmp_path):
+    data = minimal()
+    data["robot"]["battery"] = 0.7
+    assert load_scenario(write(tmp_path, data)).robot.initial_drives()["energy"] == \
+        pytest.approx(0.3)
+    data["robot"]["drives"] = {"energy": 0.6}
+    found = problems(tmp_path, data)
+    assert len(found) == 1 and "drives.energy" in found[0] and "battery" in found[0]

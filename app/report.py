@@ -1,0 +1,141 @@
+"""A household run's report: ``metrics.json``, ``timeline.csv`` and the PNG plots."""
+
+from __future__ import annotations
+
+import csv
+import json
+from collections import Counter, defaultdict
+from pathlib import Path
+from typing import IO, Any
+
+import numpy as np
+
+from app.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+
+
+class TimelineWriter:
+    """``timeline.csv``: one flushed row per homeostasis step."""
+
+    def __init__(self, path: Path) -> None:
+        self._fh: IO[str] = open(path, "w", newline="", encoding="utf-8")  # noqa: SIM115
+        self._csv = csv.writer(self._fh)
+        self._csv.writerow(["t", "action", "relieving", *DRIVES,
+                            *(f"m_{m}" for m in MOTIVATIONS), *STIMULI, "mood",
+                            "mood_positive", "secure"])
+        self.written = 0
+
+    def write(self, rows: list[dict[str, Any]]) -> None:
+        """Write the rows not written yet."""
+        for r in rows[self.written:]:
+            self._csv.writerow([r["t"], r["action"], int(r["relieving"]),
+                                *np.round(r["drives"], 5), *np.round(r["motivations"], 5),
+                                *r["stimuli"].astype(int), round(r["mood"], 5),
+                                int(r["mood_positive"]), int(r["secure"])])
+        if len(rows) > self.written:
+            self._fh.flush()
+        self.written = len(rows)
+
+    def close(self) -> None:
+        """Close the file."""
+        self._fh.close()
+
+
+def compute_metrics(history: list[dict[str, Any]], events: list[dict[str, Any]]
+                    ) -> dict[str, Any]:
+    """RSR, action counts and time shares, mood share and skill outcomes of one run."""
+    n = len(history)
+    secure = np.array([r["secure"] for r in history], bool)
+    seconds = Counter(r["action"] for r in history)
+    started = Counter(e["action"] for e in events if e["kind"] == "action")
+    outcomes: dict[str, Counter] = defaultdict(Counter)
+    for e in events:
+        if e["kind"] == "finished":
+            outcomes[e["action"]][e["status"]] += 1
+    success = {a: round(c["SUCCESS"] / max(1, c["SUCCESS"] + c["FAILURE"]), 4)
+               for a, c in outcomes.items()}
+    drives = np.array([r["drives"] for r in history]) if n else np.zeros((0, len(DRIVES)))
+    return {
+        "homeostasis_steps": n,
+        "rsr": float(secure.mean()) if n else None,
+        "insecure_steps": int((~secure).sum()),
+        "mood_positive_share": float(np.mean([r["mood_positive"] for r in history])) if n else None,
+        "actions_started": {a: started.get(a, 0) for a in ACTIONS},
+        "action_seconds": {a: seconds.get(a, 0) for a in ACTIONS},
+        "skill_outcomes": {a: dict(c) for a, c in outcomes.items()},
+        "skill_success_rate": success,
+        "preemptions": sum(e["kind"] == "preempted" for e in events),
+        "sentences_said": sum(e["kind"] == "say" for e in events),
+        "lines_heard": sum(e["kind"] == "heard" for e in events),
+        "max_drive": dict(zip(DRIVES, drives.max(axis=0).round(4).tolist(), strict=True))
+        if n else {},
+    }
+
+
+def write_metrics(metrics: dict[str, Any], path: Path) -> None:
+    """Write ``metrics.json`` (to a temporary name first, then renamed)."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(json.dumps(metrics, indent=2) + "\n")
+    tmp.replace(path)
+
+
+def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray,
+             threshold: float, out: Path) -> list[Path]:
+    """``motivations.png``, ``actions.png`` and ``mood.png`` in ``out``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    if not history:
+        return []
+    t = np.array([r["t"] for r in history])
+    m = np.array([r["motivations"] for r in history])
+    paths = []
+
+    fig, axes = plt.subplots(len(MOTIVATIONS), 1, figsize=(9, 10), sharex=True)
+    for i, (ax, name) in enumerate(zip(axes, MOTIVATIONS, strict=True)):
+        ax.axhspan(lower[i], upper[i], color="tab:green", alpha=0.15)
+        ax.plot(t, m[:, i], lw=1)
+        ax.set_ylabel(name.replace("_", "\n"), fontsize=8)
+        ax.set_ylim(-0.1, 1.1)
+    axes[-1].set_xlabel("simulated time (s)")
+    fig.suptitle("Motivations (green: desired range)")
+    paths.append(_save(fig, out / "motivations.png"))
+
+    fig, ax = plt.subplots(figsize=(9, 3))
+    codes = np.array([ACTIONS.index(r["action"]) for r in history])
+    for a in range(len(ACTIONS)):
+        on = codes == a
+        if on.any():
+            ax.broken_barh(_spans(t, on), (a - 0.4, 0.8), color=f"C{a}")
+    ax.set_yticks(range(len(ACTIONS)), ACTIONS, fontsize=8)
+    ax.set_xlabel("simulated time (s)")
+    ax.set_title("Actions")
+    paths.append(_save(fig, out / "actions.png"))
+
+    fig, ax = plt.subplots(figsize=(9, 3))
+    ax.plot(t, [r["mood"] for r in history], lw=1)
+    ax.axhline(threshold, color="k", ls="--", lw=0.8, label="threshold (positive below)")
+    ax.set_xlabel("simulated time (s)")
+    ax.set_ylabel("v_mood")
+    ax.legend(fontsize=8)
+    ax.set_title("Mood (eq. 3.6)")
+    paths.append(_save(fig, out / "mood.png"))
+    return paths
+
+
+def _spans(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:
+    step = float(t[1] - t[0]) if len(t) > 1 else 1.0
+    edges = np.flatnonzero(np.diff(np.r_[0, on.astype(int), 0]))
+    return [(float(t[a]) - step, float(t[b - 1] - t[a]) + step)
+            for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def _save(fig: Any, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path

@@ -1,0 +1,145 @@
+"""Schema of ``app/defaults/behaviour.yaml``: the behaviour tree's timing and skill parameters."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import Field, NonNegativeInt, PositiveFloat, PositiveInt
+
+from app.config import StrictModel, load_model
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+class PidGains(StrictModel):
+    """Gains of one simple-pid controller."""
+
+    kp: float
+    ki: float = 0.0
+    kd: float = 0.0
+
+
+class PerceptionConfig(StrictModel):
+    """How camera detections become the human-present stimulus."""
+
+    tracking_rate: float = Field(gt=0, le=30)
+    present_min_height_px: PositiveInt
+    present_hold_s: float = Field(ge=0)
+    min_conf: float = Field(gt=0, lt=1)
+
+
+class PidConfig(StrictModel):
+    """Navigation controllers: heading and distance to a goal (app/navigation.py)."""
+
+    heading: PidGains
+    distance: PidGains
+    slowdown_heading_deg: float = Field(gt=0, le=180)
+    lookahead_m: PositiveFloat
+
+
+class ChargeConfig(StrictModel):
+    """Charge skill: speech, path planning and docking tolerances."""
+
+    ask: str
+    done: str
+    robot_radius: PositiveFloat
+    grid_resolution: PositiveFloat
+    waypoint_tolerance: PositiveFloat
+    predock_distance: PositiveFloat
+    replan_blocked_s: PositiveFloat
+    dock_position_tolerance: PositiveFloat
+    dock_yaw_tolerance_deg: PositiveFloat
+    timeout_s: PositiveFloat
+
+
+class RestConfig(StrictModel):
+    """Rest skill: the sentence, the rest posture and how fast to move into it and back."""
+
+    say: str
+    posture: str
+    speed: float = Field(gt=0, le=1)
+    posture_timeout_s: PositiveFloat
+
+
+class FindPeopleConfig(StrictModel):
+    """Find-people skill: two PID loops on the detector's person box (docs/find_people.md)."""
+
+    greet: str
+    head_pitch: float = Field(ge=-0.7, le=0.6)
+    heading_pid: PidGains
+    approach_pid: PidGains
+    max_approach_speed: PositiveFloat
+    approach_max_offset: float = Field(gt=0, le=1)
+    escape_speed: PositiveFloat
+    escape_back_s: PositiveFloat
+    escape_side_s: PositiveFloat
+    target_height_px: PositiveInt
+    height_tolerance_px: PositiveInt
+    bottom_margin_px: NonNegativeInt
+    centre_tolerance: float = Field(gt=0, lt=1)
+    search_turn_speed: PositiveFloat
+    lost_after_s: PositiveFloat
+    face_region: float = Field(gt=0, le=1)
+    face_min_conf: float = Field(gt=0, lt=1)
+    face_frames: PositiveInt
+    face_wait_s: PositiveFloat
+    ignore_s: PositiveFloat
+    ignore_width_deg: PositiveFloat
+    timeout_s: PositiveFloat
+
+
+class SingDanceConfig(StrictModel):
+    """Sing/dance skill: where the routines live and how fast gestures move."""
+
+    routines: Path
+    speed: float = Field(gt=0, le=1)
+    posture_timeout_s: PositiveFloat
+
+    def resolved_routines(self) -> Path:
+        """The routines file; a relative path is taken from the repository root."""
+        return self.routines if self.routines.is_absolute() else REPO_ROOT / self.routines
+
+
+class AskQuestionConfig(StrictModel):
+    """Ask-question skill."""
+
+    samples: PositiveInt
+
+
+class ChatConfig(StrictModel):
+    """Chat skill."""
+
+    opener: str
+    max_heard_age_s: PositiveFloat
+
+
+class StandByConfig(StrictModel):
+    """Stand-by skill: idle posture with a slow look around."""
+
+    head_yaw_amplitude: float = Field(ge=0, le=2)
+    period_s: PositiveFloat
+    posture_timeout_s: PositiveFloat
+
+
+class BehaviourConfig(StrictModel):
+    """Schema of ``app/defaults/behaviour.yaml``."""
+
+    homeostasis_step_s: PositiveFloat
+    encouragement_s: float = Field(ge=0)
+    emotion_hold_s: float = Field(ge=0)
+    failure_standby_s: float = Field(ge=0)
+    preempt_energy: float = Field(gt=0, le=1)
+    perception: PerceptionConfig
+    pid: PidConfig
+    charge: ChargeConfig
+    rest: RestConfig
+    find_people: FindPeopleConfig
+    sing_dance: SingDanceConfig
+    ask_question: AskQuestionConfig
+    chat: ChatConfig
+    stand_by: StandByConfig
+
+
+def load_behaviour_config(path: str | Path | None = None) -> BehaviourConfig:
+    """The packaged behaviour.yaml, with the user file at ``path`` merged over it."""
+    return load_model(BehaviourConfig, "behaviour.yaml", path)

@@ -1,0 +1,78 @@
+"""Sense: turn what happened since the last tick into stimuli on the blackboard.
+
+- people's social events (the simulation's inbox): lines said to the robot are queued in
+  ``heard``; praise switches the encouragement stimulus on for ``encouragement_s``; a shown
+  emotion colours the mood for ``emotion_hold_s``;
+- head-camera frames at the scenario's camera rate (the tracking rate while a skill follows
+  a person) go through the detector; a person box at least ``present_min_height_px`` tall
+  makes the human-present stimulus, held ``present_hold_s`` after the last one;
+- the motor temperature model gives the overheat stimulus.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from py_trees.common import Status
+
+from app.world import EmotionEvent, EncourageEvent, SayEvent
+from behaviours.context import Household
+from behaviours.skill import HouseholdBehaviour, people_in_view
+
+EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
+
+
+class Sense(HouseholdBehaviour):
+    """Stimuli, heard lines, emotion and camera detections from the household."""
+
+    def __init__(self, house: Household, name: str = "Sense") -> None:
+        super().__init__(name, house, reads=("tracking",),
+                         writes=("stimuli", "emotion", "frame", "frame_t", "detections",
+                                 "heard"))
+        self.bb.stimuli = np.zeros(3)
+        self.bb.emotion = 0.0
+        self.bb.frame, self.bb.frame_t, self.bb.detections = None, -np.inf, []
+        self.bb.heard = []
+        self._encouraged_until = -np.inf
+        self._emotion_until = -np.inf
+        self._present_until = -np.inf
+
+    def _social(self) -> None:
+        cfg = self.house.config
+        for ev in self.house.inbox:
+            if isinstance(ev, SayEvent):
+                to_robot = ev.to in ("robot", "everyone")
+                if to_robot:
+                    self.bb.heard = [*self.bb.heard, ev]
+                self.emit("heard" if to_robot else "overheard", person=ev.person, text=ev.text,
+                          to=ev.to)
+            elif isinstance(ev, EncourageEvent):
+                self._encouraged_until = self.now + cfg.encouragement_s
+                self.emit("encouraged", person=ev.person, text=ev.text)
+            elif isinstance(ev, EmotionEvent):
+                self.bb.emotion = EMOTION_VALUE[ev.emotion]
+                self._emotion_until = self.now + cfg.emotion_hold_s
+                self.emit("emotion", person=ev.person, emotion=ev.emotion)
+        self.house.inbox.clear()
+        if self.now >= self._emotion_until:
+            self.bb.emotion = 0.0
+
+    def _camera(self) -> None:
+        house, cfg = self.house, self.house.config.perception
+        tracking = bool(self.bb.get("tracking")) if self.bb.exists("tracking") else False
+        period = 1.0 / (cfg.tracking_rate if tracking else house.camera_rate)
+        if self.now - self.bb.frame_t < period - 1e-6:
+            return
+        frame = house.robot.camera_frame()
+        house.frames_taken += 1
+        detections = house.detector.detect(frame) if house.detector is not None else []
+        self.bb.frame, self.bb.frame_t, self.bb.detections = frame, self.now, detections
+        if any(d.height >= cfg.present_min_height_px for d in people_in_view(house, detections)):
+            self._present_until = self.now + cfg.present_hold_s
+
+    def update(self) -> Status:
+        self._social()
+        self._camera()
+        self.bb.stimuli = np.array([float(self.house.robot.overheated),
+                                    float(self.now <= self._present_until),
+                                    float(self.now <= self._encouraged_until)])
+        return Status.SUCCESS

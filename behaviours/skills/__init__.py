@@ -1,0 +1,1 @@
+"""One skill subtree per action; each module exposes ``build(house)``."""

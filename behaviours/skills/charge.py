@@ -1,0 +1,189 @@
+"""Charge: ask for help, drive along a planned path to a pre-dock pose behind the dock, turn
+to the dock's heading and drive straight in, plug in while the energy drive is relieved,
+unplug and ask to be unplugged (docs/navigation.md). Interrupted, the base stops and the
+charger is unplugged."""
+
+from __future__ import annotations
+
+import math
+
+import py_trees
+from py_trees.common import Status
+
+from app.navigation import Navigator, PathFollower, Point
+from app.robot import wrap_angle
+from app.world import Pose2D
+from behaviours.context import Household
+from behaviours.skill import HouseholdBehaviour, Relieve, Say
+
+ESCAPED_M = 0.02   # m: this close to the free cell where the path begins, the slide ends
+
+
+def follower(house: Household) -> PathFollower:
+    """A path follower with the ``pid`` gains, the robot's speed limits and the simulated clock."""
+    base = house.robot.cfg.base
+    return PathFollower(house.config.pid, base.max_linear_speed, base.max_angular_speed,
+                        house.config.charge.waypoint_tolerance, house.clock)
+
+
+def predock_pose(dock: Pose2D, distance: float) -> Pose2D:
+    """The pose ``distance`` behind the dock pose (opposite to its facing), facing the dock."""
+    return Pose2D(dock.x - distance * math.cos(dock.yaw), dock.y - distance * math.sin(dock.yaw),
+                  dock.yaw)
+
+
+class StopBase(HouseholdBehaviour):
+    """A driving leaf: the base stops whenever the leaf ends (done, failed or interrupted)."""
+
+    def terminate(self, new_status: Status) -> None:
+        self.house.robot.set_base_velocity(0.0, 0.0, 0.0)
+
+
+class FollowPath(StopBase):
+    """Plan a path to ``goal`` and follow it; SUCCESS within the waypoint tolerance of the
+    goal. Blocked for ``replan_blocked_s`` (or without a path) it plans again from where the
+    robot is, around the people there now; it never fails by itself (see :class:`Deadline`).
+    A robot standing inside an inflated obstacle first slides, without turning, to the
+    free cell where the path begins."""
+
+    def __init__(self, name: str, house: Household, navigator: Navigator, goal: Point) -> None:
+        super().__init__(name, house)
+        self.navigator = navigator
+        self.goal = goal
+        self.follower = follower(house)
+        self._stuck_since: float | None = None
+        self._has_path = False
+        self._escape: Point | None = None
+
+    def _plan(self) -> None:
+        x, y, _ = self.house.robot.pose()
+        path = self.navigator.plan((x, y), self.goal)
+        self._has_path = path is not None
+        self._stuck_since = None
+        if path is None:
+            self.emit("no_path", start=[x, y], goal=list(self.goal))
+            return
+        self.follower.start(path)
+        self._escape = path[0] if path[0] != (x, y) else None
+        self.emit("path", waypoints=[[round(a, 3), round(b, 3)] for a, b in path],
+                  length=round(sum(map(math.dist, path, path[1:])), 3))
+
+    def initialise(self) -> None:
+        self._plan()
+
+    def update(self) -> Status:
+        robot = self.house.robot
+        if self._has_path and self.follower.arrived(*robot.pose()[:2]):
+            return Status.SUCCESS
+        if self._has_path and not robot.blocked:
+            self._stuck_since = None
+        elif self._stuck_since is None:
+            self._stuck_since = self.now
+        elif self.now - self._stuck_since >= self.house.config.charge.replan_blocked_s:
+            self.emit("replan", pose=list(robot.pose()))
+            self._plan()
+        robot.set_base_velocity(*self._command())
+        return Status.RUNNING
+
+    def _command(self) -> tuple[float, float, float]:
+        pose = self.house.robot.pose()
+        if not self._has_path:
+            return 0.0, 0.0, 0.0
+        if self._escape is not None and math.dist(pose[:2], self._escape) > ESCAPED_M:
+            return self.follower.approach(pose, Pose2D(*self._escape, pose[2]))
+        self._escape = None
+        return self.follower.command(pose)
+
+
+class DockIn(StopBase):
+    """Turn on the spot to the dock's heading, then drive straight in; SUCCESS (and a
+    ``docked`` event) within ``dock_position_tolerance`` and ``dock_yaw_tolerance_deg``."""
+
+    def __init__(self, name: str, house: Household, dock: Pose2D) -> None:
+        super().__init__(name, house)
+        self.dock = dock
+        self.follower = follower(house)
+        self._aligned = False
+
+    def initialise(self) -> None:
+        self.follower.reset()
+        self._aligned = False
+
+    def update(self) -> Status:
+        cfg, robot = self.house.config.charge, self.house.robot
+        x, y, yaw = robot.pose()
+        offset = math.hypot(self.dock.x - x, self.dock.y - y)
+        yaw_error = abs(wrap_angle(self.dock.yaw - yaw))
+        yaw_tolerance = math.radians(cfg.dock_yaw_tolerance_deg)
+        if offset <= cfg.dock_position_tolerance and yaw_error <= yaw_tolerance:
+            self.emit("docked", position_error=offset, yaw_error_deg=math.degrees(yaw_error))
+            return Status.SUCCESS
+        self._aligned = self._aligned or yaw_error <= yaw_tolerance
+        vx, vy, wz = self.follower.approach((x, y, yaw), self.dock)
+        robot.set_base_velocity(*((vx, vy, wz) if self._aligned else (0.0, 0.0, wz)))
+        return Status.RUNNING
+
+
+class Deadline(py_trees.decorators.PassThrough):
+    """Pass the child's status through, but FAILURE (and a ``dock_failed`` event) once it
+    has been running ``timeout_s`` simulated seconds."""
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household,
+                 timeout_s: float) -> None:
+        super().__init__(name, child)
+        self.house = house
+        self.timeout_s = timeout_s
+        self._deadline = 0.0
+
+    def initialise(self) -> None:
+        self._deadline = self.house.now + self.timeout_s
+
+    def update(self) -> Status:
+        if self.decorated.status == Status.RUNNING and self.house.now >= self._deadline:
+            x, y, yaw = self.house.robot.pose()
+            self.house.events.emit("dock_failed", behaviour=self.name, pose=[x, y, yaw],
+                                   timeout_s=self.timeout_s)
+            return Status.FAILURE
+        return self.decorated.status
+
+
+class PluggedIn(py_trees.decorators.PassThrough):
+    """Charge while the child runs: plug in when it starts, unplug when it ends, fails or
+    is interrupted."""
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household) -> None:
+        super().__init__(name, child)
+        self.house = house
+
+    def initialise(self) -> None:
+        self.house.robot.start_charging()
+        self.house.events.emit("charging", behaviour=self.name, battery=self.house.robot.battery)
+
+    def terminate(self, new_status: Status) -> None:
+        if self.house.robot.charging:
+            self.house.robot.stop_charging()
+            self.house.events.emit("unplugged", behaviour=self.name,
+                                   battery=self.house.robot.battery,
+                                   interrupted=new_status == Status.INVALID)
+
+
+def approach(house: Household) -> py_trees.behaviour.Behaviour:
+    """Drive to the pre-dock pose and dock, failing after ``charge.timeout_s``."""
+    cfg = house.config.charge
+    navigator = Navigator(house.world, cfg.grid_resolution, cfg.robot_radius)
+    dock = house.world.dock_pose()
+    predock = predock_pose(dock, cfg.predock_distance)
+    steps = py_trees.composites.Sequence("Approach dock", memory=True, children=[
+        FollowPath("Go to pre-dock", house, navigator, (predock.x, predock.y)),
+        DockIn("Dock in", house, dock)])
+    return Deadline("Dock in time", steps, house, cfg.timeout_s)
+
+
+def build(house: Household) -> py_trees.behaviour.Behaviour:
+    """The charge subtree: ask, approach and dock, charge while relieving, ask to unplug."""
+    cfg = house.config.charge
+    return py_trees.composites.Sequence("Charge", memory=True, children=[
+        Say("Ask to charge", house, cfg.ask),
+        approach(house),
+        PluggedIn("Plugged in", Relieve("Charge relieves", house, "charge"), house),
+        Say("Ask to unplug", house, cfg.done)])

@@ -1,0 +1,68 @@
+"""Sing and dance: perform a routine of ``app/defaults/dances.yaml`` (keyframed arm, head
+and hip gestures with sung lines, docs/skills_body.md), looped for the action's Table 4.2
+duration, then stand. Each start of the skill takes the next routine in the file's order."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import py_trees
+from py_trees.common import Status
+
+from behaviours.context import Household
+from behaviours.skill import HouseholdBehaviour, Relieve
+from behaviours.skills.dances import Routine, load_dances
+from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
+
+
+class Dance(HouseholdBehaviour):
+    """Sing each lyric line and command each keyframe at its time, looping the routine;
+    RUNNING until stopped. Every start takes the next routine (rotating)."""
+
+    def __init__(self, house: Household, routines: Sequence[Routine], speed: float,
+                 name: str = "Dance") -> None:
+        super().__init__(name, house)
+        self.routines = list(routines)
+        self.speed = speed
+        self.routine = self.routines[0]
+        self._turn = 0
+        self._pass_start = 0.0
+        self._next_line = 0
+        self._next_frame = 0
+
+    def initialise(self) -> None:
+        self.routine = self.routines[self._turn % len(self.routines)]
+        self._turn += 1
+        self._begin_pass(self.now)
+        self.emit("dance", title=self.routine.title)
+
+    def _begin_pass(self, start: float) -> None:
+        self._pass_start = start
+        self._next_line = self._next_frame = 0
+
+    def update(self) -> Status:
+        r = self.routine
+        if self.now - self._pass_start >= r.length_s - 1e-9:
+            self._begin_pass(self._pass_start + r.length_s)
+        due = self.now - self._pass_start + 1e-9
+        while self._next_frame < len(r.keyframes) and r.keyframes[self._next_frame].at <= due:
+            self.house.robot.move_joints(r.keyframes[self._next_frame].targets(), self.speed)
+            self._next_frame += 1
+        while self._next_line < len(r.lyrics) and r.lyrics[self._next_line].at <= due:
+            self.house.speaker.say(r.lyrics[self._next_line].text, behaviour=self.name,
+                                   song=r.title)
+            self._next_line += 1
+        return Status.RUNNING
+
+
+def build(house: Household) -> py_trees.behaviour.Behaviour:
+    """The sing/dance subtree: dance while the action's duration runs, then stand."""
+    cfg = house.config.sing_dance
+    book = load_dances(cfg.resolved_routines(), house.robot.joint_limits())
+    relieve = Relieve("Dancing relieves", house, "sing_dance")
+    perform = py_trees.composites.Parallel(
+        "Perform", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
+        children=[Dance(house, book.routines, cfg.speed), relieve])
+    steps = [perform, GoToPosture(house, STAND, None, cfg.posture_timeout_s)]
+    return StandOnExit("Sing and dance", py_trees.composites.Sequence(
+        "Sing and dance steps", memory=True, children=steps), house.robot)

@@ -1,0 +1,50 @@
+"""Stand-by: stand and slowly look around (a HeadYaw sinusoid) for the Table 4.2 stand-by
+duration, then recentre the head. Stand-by has no drive, but its duration is counted in
+relieving steps all the same, so the Relieve leaf says when it is over."""
+
+from __future__ import annotations
+
+import math
+
+import py_trees
+from py_trees.common import Status
+
+from behaviours.context import Household
+from behaviours.skill import HouseholdBehaviour, Relieve
+from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
+
+SWAY_SPEED = 1.0  # the target moves smoothly, so the ramp may follow it at full speed
+
+
+class HeadSway(HouseholdBehaviour):
+    """Turn the head as ``amplitude * sin(2 pi t / period)`` (rad) from when it starts;
+    RUNNING until stopped."""
+
+    def __init__(self, house: Household, amplitude: float, period_s: float,
+                 name: str = "Look around") -> None:
+        super().__init__(name, house)
+        self.amplitude = amplitude
+        self.period_s = period_s
+        self._start = 0.0
+
+    def initialise(self) -> None:
+        self._start = self.now
+
+    def update(self) -> Status:
+        phase = 2.0 * math.pi * (self.now - self._start) / self.period_s
+        self.house.robot.move_joints({"HeadYaw": self.amplitude * math.sin(phase)}, SWAY_SPEED)
+        return Status.RUNNING
+
+
+def build(house: Household) -> py_trees.behaviour.Behaviour:
+    """The stand-by subtree: stand, look around while the duration runs, recentre."""
+    cfg = house.config.stand_by
+    relieve = Relieve("Stand-by counts", house, "stand_by")
+    idle = py_trees.composites.Parallel(
+        "Idle", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
+        children=[HeadSway(house, cfg.head_yaw_amplitude, cfg.period_s), relieve])
+    steps = [GoToPosture(house, STAND, None, cfg.posture_timeout_s),
+             idle,
+             GoToPosture(house, STAND, None, cfg.posture_timeout_s, name="Recentre")]
+    return StandOnExit("Stand by", py_trees.composites.Sequence("Stand-by steps", memory=True,
+                                                                children=steps), house.robot)

@@ -1,0 +1,63 @@
+"""The companion's behaviour tree.
+
+::
+
+    Companion (sequence, re-evaluated every tick)
+    ├── Sense         stimuli, heard lines and camera detections onto the blackboard
+    ├── Homeostasis   drives, motivations and mood, once per homeostasis step
+    ├── Decide        the DQN picks an action when the last one ended; low energy pre-empts
+    └── Act           status mirrored to the blackboard's ``act_status``
+        └── Actions (selector)
+            ├── charge?  guard: action == "charge"  -> the charge skill subtree
+            ├── ...      one guarded subtree per action of app.personality.ACTIONS
+            └── stand_by?
+
+The guards are py_trees ``EternalGuard`` decorators: when Decide switches the action the
+running skill's guard fails and the skill is stopped (its ``terminate`` cleans up).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+
+import py_trees
+
+from app.personality import ACTIONS
+from behaviours.context import Household
+from behaviours.decide import Decide, Policy
+from behaviours.homeostasis_tick import HomeostasisTick
+from behaviours.sense import Sense
+
+SkillBuilder = Callable[[Household], py_trees.behaviour.Behaviour]
+
+
+def skill_builders() -> dict[str, SkillBuilder]:
+    """``build`` of each action's skill module ``behaviours/skills/<action>.py``."""
+    return {a: importlib.import_module(f"behaviours.skills.{a}").build for a in ACTIONS}
+
+
+def _guard(action: str, subtree: py_trees.behaviour.Behaviour) -> py_trees.behaviour.Behaviour:
+    return py_trees.decorators.EternalGuard(
+        name=f"{action}?", child=subtree, blackboard_keys=["action"],
+        condition=lambda blackboard: blackboard.action == action)
+
+
+def build_tree(house: Household, policy: Policy, initial_drives: dict[str, float],
+               builders: dict[str, SkillBuilder] | None = None
+               ) -> py_trees.composites.Sequence:
+    """The full tree for one household run (call after :func:`make_household`)."""
+    builders = builders or skill_builders()
+    actions = py_trees.composites.Selector(
+        "Actions", memory=False, children=[_guard(a, builders[a](house)) for a in ACTIONS])
+    act = py_trees.decorators.StatusToBlackboard("Act", child=actions,
+                                                 variable_name="act_status")
+    return py_trees.composites.Sequence(
+        "Companion", memory=False,
+        children=[Sense(house), HomeostasisTick(house, initial_drives), Decide(house, policy),
+                  act])
+
+
+def render(root: py_trees.behaviour.Behaviour, show_status: bool = False) -> str:
+    """The tree as unicode text (the shape snapshot; with statuses when ``show_status``)."""
+    return py_trees.display.unicode_tree(root, show_status=show_status)

@@ -1,0 +1,201 @@
+"""Find-people skill benchmark: the robot must find, approach and greet one standing person.
+
+Each trial is worlds/living_room.yaml with only Tom (1.8 m, standing) left in it, at a random
+free spot anywhere in the room (behind the robot too) and turned within +-60 degrees of
+facing the robot; the robot starts at a random free pose. The skill sees only the YOLO
+detector's boxes. A trial succeeds when the skill confirms the person (``person_found``)
+within 30 simulated seconds; after the greeting has been said the benchmark measures, from
+the simulator's ground truth, the bearing error (robot heading vs. direction to the person)
+and the distance error (|base-to-person distance - 1.0 m|).
+
+Usage: python bench/bench_find_people.py [--trials 100] [--seed 0] [--weights PATH]
+                                         [--json PATH]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import py_trees
+import pybullet as p
+from py_trees.common import Access, Status
+
+from app.household import Simulation
+from app.scenario import Placement, Scenario, Start, load_scenario
+from app.speech import speech_seconds
+from app.world import Footprint, World
+from behaviours.config import load_behaviour_config
+from behaviours.context import make_household
+from behaviours.harness import skill_root
+from behaviours.skills import find_people
+from perception.detector import Detector, YoloDetector
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIO = ROOT / "worlds" / "living_room.yaml"
+WEIGHTS = (ROOT / "assets" / "models" / "detector.pt",
+           ROOT / "runs" / "train-detector" / "weights" / "best.pt")
+PERSON = "Tom"               # the living room's standing person
+TARGET_DISTANCE_M = 1.0      # where target_height_px stops the robot (docs/find_people.md)
+BUDGET_S = 30.0              # simulated seconds to confirm the person
+FACING_DEG = 60.0            # the person faces the robot within this
+MIN_SEPARATION_M = 1.2       # robot and person start at least this far apart
+PERSON_CLEARANCE_M = 0.3     # free spot: this far from walls and obstacles
+ROBOT_CLEARANCE_M = 0.35     # the robot's radius (0.23 m) plus room to turn
+BARS = {"success_pct": 95.0, "bearing_error_deg": 5.0, "distance_error_m": 0.15}
+
+
+def default_weights() -> Path:
+    """The shipped detector if present, else the training run's best weights."""
+    return next((w for w in WEIGHTS if w.is_file()), WEIGHTS[0])
+
+
+def obstacles(scenario: Scenario) -> list[Footprint]:
+    """Floor footprints of the scenario's walls, furniture, objects and dock."""
+    client = p.connect(p.DIRECT)
+    try:
+        return World(scenario, client).obstacles()
+    finally:
+        p.disconnect(client)
+
+
+def free_spot(scenario: Scenario, blocked: list[Footprint], rng: np.random.Generator,
+              clearance: float) -> tuple[float, float]:
+    """A uniformly drawn floor point at least ``clearance`` from walls and obstacles."""
+    room = scenario.rooms[0]
+    while True:
+        x, y = rng.uniform(*room.x), rng.uniform(*room.y)
+        if scenario.in_rooms(x, y, clearance) and not any(
+                f.contains(x, y, clearance) for f in blocked):
+            return float(x), float(y)
+
+
+def placement(scenario: Scenario, blocked: list[Footprint], rng: np.random.Generator
+              ) -> tuple[Placement, Start]:
+    """A random free robot pose and a person spot at least MIN_SEPARATION_M away, the
+    person facing the robot within +-FACING_DEG."""
+    rx, ry = free_spot(scenario, blocked, rng, ROBOT_CLEARANCE_M)
+    while True:
+        px, py = free_spot(scenario, blocked, rng, PERSON_CLEARANCE_M)
+        if math.hypot(px - rx, py - ry) >= MIN_SEPARATION_M:
+            break
+    facing = math.degrees(math.atan2(ry - py, rx - px)) + rng.uniform(-FACING_DEG, FACING_DEG)
+    return (Placement(x=rx, y=ry, yaw=float(rng.uniform(-180.0, 180.0))),
+            Start(x=px, y=py, yaw=float(facing), pose="standing"))
+
+
+def trial_scenario(base: Scenario, robot: Placement, person: Start) -> Scenario:
+    """``base`` with only PERSON, standing still at ``person``, and the robot at ``robot``."""
+    spec = next(q for q in base.people if q.name == PERSON)
+    spec = spec.model_copy(update={"start": person, "events": ()})
+    return base.model_copy(update={
+        "people": (spec,), "robot": base.robot.model_copy(update={"start": robot})})
+
+
+def run_trial(scenario: Scenario, detector: Detector) -> dict:
+    """Run the skill until the greeting has been said (or it fails, or time is up) and
+    measure the errors against the person's true position."""
+    config = load_behaviour_config()
+    limit = BUDGET_S + speech_seconds(config.find_people.greet) + 1.0
+    with Simulation(scenario) as sim:
+        house = make_household(sim, config, detector)
+        skill = find_people.build(house)
+        root = skill_root(house, skill, scenario.robot.initial_drives())
+        bb = py_trees.blackboard.Client(name="bench")
+        for key in ("action", "relieving", "tracking"):
+            bb.register_key(key, access=Access.WRITE)
+        bb.action, bb.relieving, bb.tracking = "find_people", False, False
+        root.setup_with_descendants()
+        greeted = math.inf
+        while sim.t < limit and sim.t < greeted and skill.status != Status.FAILURE:
+            house.inbox.extend(sim.step())
+            house.clock.t = sim.t
+            root.tick_once()
+            said = [e for e in house.events.of_kind("say") if e["behaviour"] == "Greet"]
+            if said:
+                greeted = said[0]["t"] + said[0]["duration"]
+        found = house.events.of_kind("person_found")
+        rx, ry, ryaw = sim.robot.pose()
+        person = sim.world.people_positions()[PERSON]
+        root.stop(Status.INVALID)
+    dist = math.hypot(person.x - rx, person.y - ry)
+    bearing = math.remainder(math.atan2(person.y - ry, person.x - rx) - ryaw, math.tau)
+    ok = bool(found) and found[0]["t"] <= BUDGET_S
+    return {"success": ok, "found_s": found[0]["t"] if found else None,
+            "bearing_error_deg": round(abs(math.degrees(bearing)), 3),
+            "distance_m": round(dist, 3),
+            "distance_error_m": round(abs(dist - TARGET_DISTANCE_M), 3),
+            "no_face_events": len(house.events.of_kind("no_face"))}
+
+
+def summarise(rows: list[dict]) -> dict:
+    """Success rate and the error statistics of the successful trials."""
+    good = [r for r in rows if r["success"]]
+    out: dict = {"trials": len(rows), "success_pct": round(100.0 * len(good) / len(rows), 1)}
+    for key in ("bearing_error_deg", "distance_error_m", "found_s"):
+        v = np.array([r[key] for r in good], dtype=float)
+        out[key] = ({"mean": round(float(v.mean()), 3), "median": round(float(np.median(v)), 3),
+                     "p95": round(float(np.percentile(v, 95)), 3), "max": round(float(v.max()), 3)}
+                    if len(v) else None)
+    out["bars_met"] = {
+        "success_pct": out["success_pct"] >= BARS["success_pct"],
+        **{k: out[k] is not None and out[k]["mean"] <= BARS[k]
+           for k in ("bearing_error_deg", "distance_error_m")}}
+    return out
+
+
+def table(summary: dict) -> str:
+    """A markdown table of the summary against the bars."""
+    lines = ["| measure | mean | median | p95 | max | bar (mean) | met |",
+             "| --- | --- | --- | --- | --- | --- | --- |",
+             f"| success | {summary['success_pct']} % | | | | >= {BARS['success_pct']} % | "
+             f"{summary['bars_met']['success_pct']} |"]
+    for key, unit in (("bearing_error_deg", "deg"), ("distance_error_m", "m"), ("found_s", "s")):
+        s = summary[key] or dict.fromkeys(("mean", "median", "p95", "max"), "-")
+        bar = f"<= {BARS[key]} {unit}" if key in BARS else ""
+        met = summary["bars_met"].get(key, "")
+        lines.append(f"| {key} | {s['mean']} | {s['median']} | {s['p95']} | {s['max']} | "
+                     f"{bar} | {met} |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    """Run the trials; print a progress line per trial (stderr), the table and the JSON
+    summary; ``--json`` also writes every trial to a file."""
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--trials", type=int, default=100)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--weights", type=Path, default=None,
+                        help="YOLO weights (default: assets/models/detector.pt, else "
+                             "runs/train-detector/weights/best.pt)")
+    parser.add_argument("--json", type=Path, default=None, help="write every trial here")
+    args = parser.parse_args()
+    weights = args.weights or default_weights()
+    detector = YoloDetector(weights)
+    base = load_scenario(SCENARIO)
+    blocked = obstacles(base.model_copy(update={"people": ()}))
+    rows, start = [], time.perf_counter()
+    for i in range(args.trials):
+        robot, person = placement(base, blocked, np.random.default_rng([args.seed, i]))
+        row = {"trial": i, "robot": robot.model_dump(), "person": person.model_dump(),
+               **run_trial(trial_scenario(base, robot, person), detector)}
+        rows.append(row)
+        print(json.dumps({k: row[k] for k in ("trial", "success", "found_s",
+                                               "bearing_error_deg", "distance_m")}),
+              file=sys.stderr, flush=True)
+    summary = {"weights": str(weights), "seed": args.seed, **summarise(rows),
+               "wall_s": round(time.perf_counter() - start, 1)}
+    print(table(summary))
+    print(json.dumps(summary))
+    if args.json is not None:
+        args.json.write_text(json.dumps({"summary": summary, "trials": rows}, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()

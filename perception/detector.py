@@ -1,0 +1,96 @@
+"""The detector interface the skills use, and its ultralytics YOLO implementation.
+
+``Detector.detect(frame)`` takes an RGB camera frame (H, W, 3, uint8) and returns
+:class:`Detection` boxes in pixels. The find-people skill only sees this interface, so a
+robot with a real camera can plug in its own YOLO weights (``detect.weights`` in
+``app/defaults/detector.yaml``) or another detector entirely.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from app.errors import UserError
+from perception.detector_config import DetectConfig, load_detector_config
+
+DEFAULT_DETECTOR = Path(__file__).resolve().parents[1] / "assets" / "models" / "detector.pt"
+
+
+class DetectorFileError(UserError):
+    """The detector's weights file is missing or unreadable."""
+
+
+@dataclass(frozen=True)
+class Detection:
+    """One box: class name, confidence and pixel corners ``(x0, y0, x1, y1)``."""
+
+    cls: str
+    conf: float
+    box: tuple[float, float, float, float]
+
+    @property
+    def centre(self) -> tuple[float, float]:
+        """Box centre in pixels."""
+        return (self.box[0] + self.box[2]) / 2, (self.box[1] + self.box[3]) / 2
+
+    @property
+    def height(self) -> float:
+        """Box height in pixels."""
+        return self.box[3] - self.box[1]
+
+    @property
+    def width(self) -> float:
+        """Box width in pixels."""
+        return self.box[2] - self.box[0]
+
+
+class Detector(Protocol):
+    """Anything that finds people and faces in an RGB frame."""
+
+    def detect(self, frame: np.ndarray) -> list[Detection]:
+        """Boxes found in ``frame`` (H, W, 3 uint8 RGB), most confident first."""
+        ...
+
+
+class YoloDetector:
+    """An ultralytics YOLO model run on the CPU at the camera's resolution."""
+
+    def __init__(self, weights: str | Path | None = None, imgsz: int = 320, conf: float = 0.25,
+                 iou: float = 0.5) -> None:
+        from perception.ultralytics_offline import ultralytics_module
+
+        path = Path(weights) if weights is not None else DEFAULT_DETECTOR
+        if not path.is_file():
+            raise DetectorFileError(f"{path}: detector weights not found (train them with "
+                                    "`companion train detector`)")
+        yolo = ultralytics_module().YOLO
+        try:
+            self.model = yolo(str(path), task="detect")
+            self.names: dict[int, str] = dict(self.model.names)
+        except Exception as exc:
+            raise DetectorFileError(f"{path}: not a readable YOLO weights file ({exc})") from None
+        self.path, self.imgsz, self.conf, self.iou = path, imgsz, conf, iou
+
+    @classmethod
+    def from_config(cls, cfg: DetectConfig | None = None) -> YoloDetector:
+        """The detector described by ``detect:`` of the detector config (defaults if None)."""
+        cfg = cfg or load_detector_config().detect
+        return cls(cfg.weights, cfg.imgsz, cfg.conf, cfg.iou)
+
+    def detect(self, frame: np.ndarray) -> list[Detection]:
+        """Boxes in ``frame`` (RGB uint8), most confident first."""
+        if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.uint8:
+            raise ValueError(f"expected an (H, W, 3) uint8 RGB frame, got {frame.shape} "
+                             f"{frame.dtype}")
+        bgr = np.ascontiguousarray(frame[..., ::-1])  # ultralytics reads arrays as OpenCV BGR
+        result = self.model.predict(bgr, imgsz=self.imgsz, conf=self.conf, iou=self.iou,
+                                    device="cpu", verbose=False)[0]
+        boxes = result.boxes
+        out = [Detection(self.names[int(c)], float(s), tuple(float(v) for v in xyxy))
+               for c, s, xyxy in zip(boxes.cls.tolist(), boxes.conf.tolist(),
+                                     boxes.xyxy.tolist(), strict=True)]
+        return sorted(out, key=lambda d: -d.conf)

@@ -1,0 +1,105 @@
+"""Training and evaluation of the person-and-face YOLO detector (``companion train|eval
+detector``). The data set comes from ``companion data detector`` (docs/detector.md)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import statistics
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import cv2
+
+from app.errors import UserError
+from perception.detector import YoloDetector
+from perception.detector_config import TrainConfig
+from perception.ultralytics_offline import ultralytics_module
+
+
+def _data_yaml(data: Path) -> Path:
+    path = data / "data.yaml" if data.is_dir() else data
+    if not path.is_file():
+        raise UserError(f"{path}: no data set here (render one with `companion data detector "
+                        f"--out {data}`)")
+    return path
+
+
+def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False,
+                   export: Path | None = None) -> Path:
+    """Train YOLO from ``cfg.model`` (random weights) on ``data``; ultralytics writes its run
+    into ``out`` (``weights/last.pt`` every epoch, ``results.csv``). ``resume`` continues
+    ``out/weights/last.pt``. The best weights are copied to ``export`` when given (written
+    to a temporary name first, then renamed). Returns the best weights' path."""
+    yolo = ultralytics_module(verbose=True).YOLO
+    out = out.resolve()
+    last = out / "weights" / "last.pt"
+    if resume:
+        if not last.is_file():
+            raise UserError(f"{last}: nothing to resume")
+        model = yolo(str(last))
+        model.train(resume=True)
+    else:
+        if last.exists():
+            raise UserError(f"{out} already holds a training run; pass --resume to continue it "
+                            "or choose another --out")
+        model = yolo(cfg.model, task="detect")
+        model.train(data=str(_data_yaml(data).resolve()), project=str(out.parent),
+                    name=out.name, exist_ok=True, device="cpu", pretrained=False, amp=False,
+                    plots=False, val=True, **cfg.ultralytics_args())
+    best = out / "weights" / "best.pt"
+    if export is not None:
+        export.parent.mkdir(parents=True, exist_ok=True)
+        tmp = export.with_name(f".{export.name}.tmp")
+        shutil.copyfile(best, tmp)
+        tmp.replace(export)
+    return best
+
+
+def latency_ms(detector: YoloDetector, frames: list[Path], repeats: int = 100) -> float:
+    """Median wall time (ms) of one ``detect`` call over ``repeats`` calls on these frames
+    (after two warm-up calls)."""
+    images = [cv2.cvtColor(cv2.imread(str(f)), cv2.COLOR_BGR2RGB) for f in frames]
+    for img in images[:2]:
+        detector.detect(img)
+    times = []
+    for i in range(repeats):
+        t0 = time.perf_counter()
+        detector.detect(images[i % len(images)])
+        times.append((time.perf_counter() - t0) * 1000.0)
+    return statistics.median(times)
+
+
+def evaluate_detector(weights: Path | None, data: Path, split: str = "test",
+                      imgsz: int = 320) -> dict[str, Any]:
+    """mAP figures on ``split`` of the data set and the median CPU latency per frame."""
+    data_yaml = _data_yaml(data)
+    detector = YoloDetector(weights, imgsz=imgsz)
+    with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes a val folder
+        metrics = detector.model.val(data=str(data_yaml.resolve()), split=split, imgsz=imgsz,
+                                     batch=16, device="cpu", plots=False, verbose=False,
+                                     workers=0, project=scratch)
+    box = metrics.box
+    ap50 = dict(zip(box.ap_class_index.tolist(), box.ap50.tolist(), strict=True))
+    ap = dict(zip(box.ap_class_index.tolist(), box.ap.tolist(), strict=True))
+    index = {name: i for i, name in detector.names.items()}
+    root = data_yaml.parent
+    frames = sorted((root / "images" / split).glob("*.png"))[:20]
+    return {
+        "weights": str(detector.path),
+        "split": split,
+        "person_map50": ap50.get(index["person"], 0.0),
+        "person_map50_95": ap.get(index["person"], 0.0),
+        "face_map50": ap50.get(index["face"], 0.0),
+        "face_map50_95": ap.get(index["face"], 0.0),
+        "latency_ms_median": latency_ms(detector, frames),
+        "imgsz": imgsz,
+    }
+
+
+def write_json(obj: dict[str, Any], path: Path) -> None:
+    """Write ``obj`` as indented JSON."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(obj, indent=2) + "\n")

@@ -1,0 +1,100 @@
+"""Find-people skill with the trained YOLO detector in the living room (one standing person)."""
+
+import math
+from pathlib import Path
+
+import py_trees
+import pytest
+from py_trees.common import Status
+
+from app.household import Simulation
+from app.scenario import Placement, Start, load_scenario
+from behaviours.config import load_behaviour_config
+from behaviours.context import make_household
+from behaviours.harness import run_skill
+from behaviours.skills import find_people
+from perception.detector import Detection, YoloDetector
+
+ROOT = Path(__file__).resolve().parents[1]
+WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.pt",
+                       ROOT / "runs" / "train-detector" / "weights" / "best.pt") if w.is_file()]
+pytestmark = pytest.mark.skipif(
+    not WEIGHTS, reason="no detector weights: neither assets/models/detector.pt nor "
+                        "runs/train-detector/weights/best.pt exists (companion train detector)")
+
+
+@pytest.fixture(scope="module")
+def detector():
+    return YoloDetector(WEIGHTS[0])
+
+
+@pytest.fixture
+def short_relief(tmp_path):
+    """A personality whose find_people lasts 2 steps, so a success ends soon after the greeting."""
+    path = tmp_path / "personality.yaml"
+    path.write_text("actions:\n  find_people: {duration: 2}\n")
+    return path
+
+
+def living_room(robot: Placement, person: Start | None, personality: Path | None = None):
+    """worlds/living_room.yaml with only Tom, standing still at ``person`` (or nobody)."""
+    base = load_scenario(ROOT / "worlds" / "living_room.yaml")
+    tom = next(q for q in base.people if q.name == "Tom")
+    people = () if person is None else (tom.model_copy(update={"start": person, "events": ()}),)
+    return base.model_copy(update={"people": people, "personality": personality,
+                                   "robot": base.robot.model_copy(update={"start": robot})})
+
+
+def find(scenario, detector, config=None, max_seconds=45.0):
+    """Run the skill; the status, the event log, the robot's final pose and the household.
+    The skill must have switched the tracking camera off and stopped the base."""
+    with Simulation(scenario) as sim:
+        house = make_household(sim, config, detector)
+        status, _ = run_skill(sim, house, find_people.build(house), "find_people", max_seconds)
+        assert py_trees.blackboard.Blackboard.get("/tracking") is False
+        assert house.robot.base_velocity == (0.0, 0.0, 0.0)
+        return status, house.events, sim.robot.pose(), house
+
+
+@pytest.mark.parametrize("robot_yaw", [180.0, 0.0], ids=["in_front", "behind"])
+def test_finds_greets_and_faces_the_person(detector, short_relief, robot_yaw):
+    person = Start(x=1.8, y=2.2, yaw=10.0, pose="standing")
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=robot_yaw), person, short_relief)
+    status, events, (x, y, yaw), house = find(scenario, detector)
+    assert status == Status.SUCCESS
+    assert events.of_kind("person_found")
+    assert [e["text"] for e in events.of_kind("say")] == [house.config.find_people.greet]
+    bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
+    assert abs(math.degrees(bearing)) < 5.0
+    assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
+
+
+def test_empty_room_fails_after_the_timeout(detector):
+    config = load_behaviour_config()
+    config = config.model_copy(
+        update={"find_people": config.find_people.model_copy(update={"timeout_s": 4.0})})
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), None)
+    status, events, _, _ = find(scenario, detector, config, max_seconds=10.0)
+    assert status == Status.FAILURE
+    assert events.of_kind("find_failed")[0]["t"] == pytest.approx(4.0, abs=0.15)
+
+
+def test_a_person_showing_their_back_is_not_greeted(detector):
+    config = load_behaviour_config()
+    config = config.model_copy(
+        update={"find_people": config.find_people.model_copy(update={"timeout_s": 14.0})})
+    person = Start(x=1.8, y=2.2, yaw=190.0, pose="standing")   # facing away from the robot
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), person)
+    status, events, _, _ = find(scenario, detector, config, max_seconds=20.0)
+    assert status == Status.FAILURE
+    assert events.of_kind("no_face") and not events.of_kind("person_found")
+    assert not events.of_kind("say")
+
+
+def test_face_must_lie_in_the_upper_part_of_the_person_box():
+    person = Detection("person", 0.9, (100.0, 40.0, 160.0, 240.0))
+    high = Detection("face", 0.8, (120.0, 50.0, 140.0, 70.0))
+    low = Detection("face", 0.8, (120.0, 150.0, 140.0, 170.0))
+    assert find_people.has_face(person, [person, high], region=0.4, min_conf=0.4)
+    assert not find_people.has_face(person, [person, low], region=0.4, min_conf=0.4)
+    assert not find_people.has_face(person, [person, high], region=0.4, min_conf=0.9)

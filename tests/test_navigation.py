@@ -1,0 +1,169 @@
+"""Occupancy grid, A* paths, the PID path follower and the charge skill (docking)."""
+
+import math
+from collections.abc import Iterator
+from itertools import pairwise
+from pathlib import Path
+
+import numpy as np
+import pybullet as p
+import pytest
+from py_trees.common import Status
+
+from app.household import Simulation
+from app.navigation import (
+    Navigator,
+    OccupancyGrid,
+    PathFollower,
+    Planner,
+    footprint_distance,
+)
+from app.personality import ACTIONS
+from app.scenario import load_scenario
+from app.world import Footprint, Pose2D, World
+from behaviours.config import load_behaviour_config
+from behaviours.context import make_household
+from behaviours.harness import run_skill
+from behaviours.skills.charge import build, predock_pose
+
+WORLDS = Path(__file__).resolve().parents[1] / "worlds"
+CFG = load_behaviour_config()
+RES, RADIUS = CFG.charge.grid_resolution, CFG.charge.robot_radius
+
+
+@pytest.fixture
+def client() -> Iterator[int]:
+    cid = p.connect(p.DIRECT)
+    yield cid
+    p.disconnect(cid)
+
+
+def world(name: str, client: int) -> World:
+    return World(load_scenario(WORLDS / f"{name}.yaml"), client)
+
+
+def test_grid_inflates_a_box_by_the_radius_and_blocks_the_outside():
+    box = Footprint("box", "furniture", 2.0, 1.5, 0.0, 0.3, 0.2)
+    grid = OccupancyGrid.build([(0.0, 0.0, 4.0, 3.0)], [box], RES, RADIUS)
+    assert not grid.is_free(2.0, 1.5)
+    assert not grid.is_free(2.3 + RADIUS - 0.03, 1.5)        # within the radius of its side
+    assert grid.is_free(2.3 + RADIUS + 0.03, 1.5)
+    assert grid.is_free(2.575, 1.975)           # a cell centre 0.39 m off the corner, diagonally
+    assert not grid.is_free(0.2, 1.5) and not grid.is_free(3.8, 2.9)   # near the outside
+    assert not grid.is_free(-0.5, 1.5)                         # outside (clamped to the edge)
+
+
+def test_living_room_grid_blocks_furniture_walls_and_door_to_outside(client):
+    grid = Navigator(world("living_room", client), RES, RADIUS).grid()
+    for x, y in [(3.0, 4.45), (3.0, 3.3), (1.0, 3.0), (5.78, 2.5), (4.6, 1.6),  # sofa ... ball
+                 (0.0, 2.5), (6.0, 1.0), (3.0, 5.0), (1.0, 0.1)]:           # walls, hall door
+        assert not grid.is_free(x, y), (x, y)
+    assert grid.is_free(4.3, 2.6) and grid.is_free(2.0, 1.5)
+
+
+@pytest.mark.parametrize("name", ["living_room", "low_battery_night", "nursing_home"])
+def test_planned_paths_keep_clear_of_every_obstacle(name, client):
+    w = world(name, client)
+    nav = Navigator(w, RES, RADIUS)
+    grid = nav.grid()
+    free = np.argwhere(~grid.blocked)
+    rng = np.random.default_rng(3)
+    half_diagonal = RES / math.sqrt(2)
+    for _ in range(4):
+        start, goal = (grid.centre(tuple(free[k])) for k in rng.integers(len(free), size=2))
+        path = nav.plan(start, goal)
+        assert path is not None and path[0] == start and path[-1] == goal
+        for a, b in pairwise(path):
+            assert grid.visible(a, b)               # every cell the segment passes is free ...
+            t = np.linspace(0, 1, max(2, int(math.dist(a, b) / 0.01)))
+            xs, ys = a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
+            clearance = min(footprint_distance(f, xs, ys).min() for f in w.obstacles())
+            assert clearance > RADIUS - half_diagonal   # ... so it keeps the radius, to a cell
+
+
+def test_start_inside_an_inflated_obstacle_snaps_to_a_free_cell():
+    box = Footprint("box", "furniture", 2.0, 1.5, 0.0, 0.3, 0.2)
+    planner = Planner(OccupancyGrid.build([(0.0, 0.0, 4.0, 3.0)], [box], RES, RADIUS))
+    path = planner.plan((2.0, 1.85), (2.0, 0.6))                # starts against the box
+    assert path is not None and planner.grid.is_free(*path[0])
+    assert math.dist(path[0], (2.0, 1.85)) < 0.2 and path[-1] == (2.0, 0.6)
+    assert all(planner.grid.visible(a, b) for a, b in pairwise(path))
+
+
+def test_path_follower_turns_on_the_spot_then_reaches_the_goal():
+    t = [0.0]
+    follower = PathFollower(CFG.pid, 0.55, 2.0, 0.15, lambda: t[0])
+    follower.start([(0.0, 0.0), (2.0, 0.0), (2.0, 1.5)])
+    x, y, yaw = 0.0, 0.0, math.pi                               # facing away from the path
+    vx, _, wz = follower.command((x, y, yaw))
+    assert vx == 0.0 and abs(wz) > 0.0
+    for _ in range(300):
+        t[0] += 0.1
+        vx, _, wz = follower.command((x, y, yaw))
+        yaw += wz * 0.1
+        x, y = x + vx * math.cos(yaw) * 0.1, y + vx * math.sin(yaw) * 0.1
+    assert follower.arrived(x, y) and follower.command((x, y, yaw)) == (0.0, 0.0, 0.0)
+
+
+def charge_run(name: str, max_seconds: float, charge_steps: int | None = 3,
+               config=CFG, start=None):
+    """Run the charge subtree with run_skill; (status, household, simulation)."""
+    sim = Simulation(load_scenario(WORLDS / f"{name}.yaml"))
+    if start is not None:
+        sim.robot.set_pose(*start)
+    house = make_household(sim, config=config)
+    if charge_steps is not None:
+        house.homeostasis.duration[ACTIONS.index("charge")] = charge_steps
+    status, _ = run_skill(sim, house, build(house), "charge", max_seconds)
+    return status, house, sim
+
+
+@pytest.mark.parametrize("name, start", [
+    ("living_room", (1.2, 1.2, 0.5)),
+    ("living_room", (2.27, 0.80, 0.12)),    # against the TV's corner, inside its inflation
+    ("low_battery_night", None)])           # from the scenario's start; dock in the bedroom
+def test_charge_docks_charges_and_unplugs(name, start):
+    status, house, sim = charge_run(name, 120.0, start=start)
+    try:
+        assert status == Status.SUCCESS
+        kinds = [e["kind"] for e in house.events.events
+                 if e["kind"] in ("say", "docked", "charging", "unplugged")]
+        assert kinds == ["say", "docked", "charging", "unplugged", "say"]
+        says = house.events.of_kind("say")
+        assert [s["text"] for s in says] == [CFG.charge.ask, CFG.charge.done]
+        docked = house.events.of_kind("docked")[0]
+        assert docked["position_error"] <= CFG.charge.dock_position_tolerance
+        assert docked["yaw_error_deg"] <= CFG.charge.dock_yaw_tolerance_deg
+        assert not house.events.of_kind("unplugged")[0]["interrupted"]
+        assert not sim.robot.charging and sim.robot.base_velocity == (0.0, 0.0, 0.0)
+        dock = sim.world.dock_pose()
+        assert math.dist(sim.robot.pose()[:2], dock[:2]) <= CFG.charge.dock_position_tolerance
+    finally:
+        sim.close()
+
+
+def test_interrupted_while_charging_unplugs():
+    status, house, sim = charge_run("living_room", 40.0, charge_steps=None)   # 1000 steps
+    try:
+        assert status == Status.RUNNING        # still charging when run_skill stops the tree
+        assert house.events.of_kind("docked") and house.events.of_kind("charging")
+        assert house.events.of_kind("unplugged")[0]["interrupted"]
+        assert not sim.robot.charging
+    finally:
+        sim.close()
+
+
+def test_gives_up_after_the_timeout_and_stops():
+    config = CFG.model_copy(update={"charge": CFG.charge.model_copy(update={"timeout_s": 3.0})})
+    status, house, sim = charge_run("low_battery_night", 30.0, config=config)
+    try:
+        assert status == Status.FAILURE and house.events.of_kind("dock_failed")
+        assert not house.events.of_kind("docked")
+        assert sim.robot.base_velocity == (0.0, 0.0, 0.0) and not sim.robot.charging
+    finally:
+        sim.close()
+
+
+def test_predock_pose_lies_behind_the_dock():
+    pre = predock_pose(Pose2D(5.3, 0.6, -math.pi / 2), 0.5)     # living room: facing -y
+    assert (pre.x, pre.y, pre.yaw) == pytest.approx((5.3, 1.1, -math.pi / 2))
