@@ -76,6 +76,9 @@ class FindPeopleConfig(StrictModel):
     target_height_px: PositiveInt
     height_tolerance_px: PositiveInt
     bottom_margin_px: NonNegativeInt
+    keep_conf: float = Field(gt=0, lt=1)
+    keep_gap_deg: PositiveFloat
+    confirm_frames: PositiveInt
     centre_tolerance: float = Field(gt=0, lt=1)
     search_turn_speed: PositiveFloat
     lost_after_s: PositiveFloat

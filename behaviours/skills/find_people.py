@@ -23,7 +23,7 @@ from simple_pid import PID
 
 from behaviours.config import FindPeopleConfig, PidGains
 from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour, Relieve, Say, people_in_view
+from behaviours.skill import HouseholdBehaviour, Relieve, Say
 from perception.detector import Detection
 
 HOLD_PERIODS = 1.5  # without a fresh frame for this many tracking periods the base stops
@@ -62,13 +62,14 @@ class BoxSteering(HouseholdBehaviour):
         self.period = 1.0 / house.config.perception.tracking_rate
         self._frame_t = -math.inf
         self._command_t = -math.inf
-        self._target: Detection | None = None
+        self._track: float | None = None   # world direction of the followed person (rad)
+        self.hits = 0                       # frames in which the track was seen
 
     def initialise(self) -> None:
         self.heading.reset()
         self._frame_t = -math.inf
         self._command_t = -math.inf
-        self._target = None
+        self.forget()
 
     def fresh_detections(self) -> tuple[list[Detection], float] | None:
         """The detections of a frame not used before and the time since the previous one,
@@ -98,26 +99,44 @@ class BoxSteering(HouseholdBehaviour):
 
     def follow(self, detections: list[Detection],
                ignored: tuple[float, ...] = ()) -> Detection | None:
-        """The person box to follow: the best ``conf - |offset change| / 2``, the change
-        being from the box followed in the last frame (a jump across half the image costs
-        0.5). Only boxes reaching within ``bottom_margin_px`` of the image's bottom edge
-        count (at ``head_pitch`` every standing or seated adult's does), and boxes whose
-        world direction lies within ``ignore_width_deg`` of an ``ignored`` heading (rad)
-        are skipped."""
+        """The person box to follow, or None; updates the track (the followed person's
+        world direction, from the robot's heading plus the box's bearing, so turning does
+        not move it) and ``hits``, the frames in which it was seen.
+
+        A box counts when its conf reaches ``perception.min_conf``, or ``keep_conf`` within
+        ``keep_gap_deg`` of the track (hysteresis: a person seen side-on is not dropped). It
+        must reach within ``bottom_margin_px`` of the image's bottom edge (at ``head_pitch``
+        every standing or seated adult's box does), and its direction must not lie within
+        ``ignore_width_deg`` of an ``ignored`` one (rad). The best ``conf - gap to the
+        track (rad)`` wins."""
+        cfg = self.cfg
         yaw = self.house.robot.pose()[2]
-        width = math.radians(self.cfg.ignore_width_deg)
-        bottom = self.bb.frame.shape[0] - self.cfg.bottom_margin_px
-        boxes = [d for d in people_in_view(self.house, detections)
-                 if d.box[3] >= bottom
-                 and all(abs(math.remainder(yaw + self.bearing(d) - h, math.tau)) > width
-                         for h in ignored)]
-        last = self._target
+        bottom = self.bb.frame.shape[0] - cfg.bottom_margin_px
+
+        def direction(d: Detection) -> float:
+            return yaw + self.bearing(d)
+
+        def gap(d: Detection, to: float | None) -> float:
+            return math.inf if to is None else abs(math.remainder(direction(d) - to, math.tau))
 
         def score(d: Detection) -> float:
-            return d.conf - (abs(self.offset(d) - self.offset(last)) / 2 if last else 0.0)
+            return d.conf - (0.0 if self._track is None else gap(d, self._track))
 
-        self._target = max(boxes, key=score, default=None)
-        return self._target
+        keep = math.radians(cfg.keep_gap_deg)
+        boxes = [d for d in detections
+                 if d.cls == "person" and d.box[3] >= bottom
+                 and (d.conf >= self.house.config.perception.min_conf
+                      or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
+                 and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)]
+        best = max(boxes, key=score, default=None)
+        if best is not None:
+            self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1
+            self._track = direction(best)
+        return best
+
+    def forget(self) -> None:
+        """Drop the track: the next box found starts a new one."""
+        self._track, self.hits = None, 0
 
     def terminate(self, new_status: Status) -> None:
         self.house.robot.stop()
@@ -128,15 +147,15 @@ class ApproachPerson(BoxSteering):
     ``target_height_px`` tall. SUCCESS there once their face has been seen in
     ``face_frames`` frames since the robot began to follow them (their front is turned to
     it). Blocked on the way (the base reports it), the robot backs up and sidesteps. A
-    person whose face has not shown enough within ``face_wait_s`` of arriving (their back is
-    turned) is ignored for ``ignore_s``. FAILURE after ``timeout_s``."""
+    person whose face has not shown enough ``face_wait_s`` after the robot came near (their
+    back is turned, or it is no person) is ignored for ``ignore_s``. FAILURE after
+    ``timeout_s``."""
 
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
         super().__init__(name, house)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
-        self._start = self._seen = self._arrived = 0.0
+        self._start = self._seen = self._near_since = 0.0   # s: started, person last seen, near
         self._faces = 0                          # frames of the followed person with a face
-        self._turn = 1.0
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
         self._ignored: dict[float, float] = {}   # world heading (rad) -> ignored until (s)
 
@@ -144,9 +163,8 @@ class ApproachPerson(BoxSteering):
         super().initialise()
         self.approach.reset()
         self._start = self.now
-        self._seen = self._arrived = -math.inf
+        self._seen = self._near_since = -math.inf
         self._faces = 0
-        self._turn = 1.0
         self._side, self._escape_start = 1.0, -math.inf
         self._ignored = {}
 
@@ -160,52 +178,64 @@ class ApproachPerson(BoxSteering):
         detections, dt = fresh
         self._ignored = {h: t for h, t in self._ignored.items() if t > self.now}
         person = self.follow(detections, tuple(self._ignored))
-        if person is None:
+        if person is None or self.hits < self.cfg.confirm_frames:
             self._search()
             return Status.RUNNING
         self._seen = self.now
         return self._steer(person, detections, dt)
 
     def _search(self) -> None:
-        """Nobody in view: hold still while a person may just have been missed, then turn
-        towards the side where one was last seen."""
+        """No confirmed person in view: hold still while the one followed may just have
+        been missed, else turn counter-clockwise. Always the same way: turning towards where
+        a box was last seen lets two passing false positives bounce the robot between
+        them."""
         if self.now - self._seen < self.cfg.lost_after_s:
             self.command(0.0, 0.0, 0.0)
-        else:
+            return
+        if math.isfinite(self._seen):
+            self.forget()
             self.heading.reset()
             self.approach.reset()
-            self._arrived, self._faces = -math.inf, 0
-            self.command(0.0, 0.0, self._turn * self.cfg.search_turn_speed)
+            self._seen = self._near_since = -math.inf
+            self._faces = 0
+        self.command(0.0, 0.0, self.cfg.search_turn_speed)
 
     def _steer(self, person: Detection, detections: list[Detection], dt: float) -> Status:
         cfg = self.cfg
         offset = self.offset(person)
-        self._turn = -1.0 if offset > 0 else 1.0
-        height = self.bb.frame.shape[0]
-        shortfall = (person.height - cfg.target_height_px) / height
+        shortfall = (person.height - cfg.target_height_px) / self.bb.frame.shape[0]
         wz = self.heading(offset, dt=dt)
         vx = self.approach(shortfall, dt=dt) * max(0.0, 1.0 - abs(offset) / cfg.approach_max_offset)
         self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf)
-        arrived = (abs(offset) <= cfg.centre_tolerance
-                   and abs(person.height - cfg.target_height_px) <= cfg.height_tolerance_px)
-        if not arrived:
-            self.command(*self._avoid(vx, wz))
-            return Status.RUNNING
-        self.command(0.0, 0.0, 0.0)
-        if not math.isfinite(self._arrived):
-            self._arrived = self.now
-        if self._faces >= cfg.face_frames:
+        near = person.height >= cfg.target_height_px - cfg.height_tolerance_px
+        if near and not math.isfinite(self._near_since):
+            self._near_since = self.now
+        arrived = (near and abs(offset) <= cfg.centre_tolerance
+                   and person.height <= cfg.target_height_px + cfg.height_tolerance_px)
+        if arrived and self._faces >= cfg.face_frames:
+            self.command(0.0, 0.0, 0.0)
             self.emit("person_found", box=[round(v, 1) for v in person.box],
                       bearing_deg=round(math.degrees(self.bearing(person)), 2),
                       face_frames=self._faces, after_s=round(self.now - self._start, 2))
             return Status.SUCCESS
-        if self.now - self._arrived >= cfg.face_wait_s:
-            heading = self.house.robot.pose()[2] + self.bearing(person)
-            self._ignored[heading] = self.now + cfg.ignore_s
-            self._seen = self._arrived = -math.inf
-            self._faces = 0
-            self.emit("no_face", bearing_deg=round(math.degrees(self.bearing(person)), 2))
+        if near and self.now - self._near_since >= cfg.face_wait_s:
+            self._give_up(person)
+        elif arrived:
+            self.command(0.0, 0.0, 0.0)
+        else:
+            self.command(*self._avoid(vx, wz))
         return Status.RUNNING
+
+    def _give_up(self, person: Detection) -> None:
+        """The person close by has not shown their face: ignore their direction for
+        ``ignore_s`` and search on."""
+        bearing = self.bearing(person)
+        self._ignored[self.house.robot.pose()[2] + bearing] = self.now + self.cfg.ignore_s
+        self.emit("no_face", bearing_deg=round(math.degrees(bearing), 2), face_frames=self._faces)
+        self.forget()
+        self._seen = self._near_since = -math.inf
+        self._faces = 0
+        self.command(0.0, 0.0, 0.0)
 
     def _avoid(self, vx: float, wz: float) -> tuple[float, float, float]:
         """The (vx, vy, wz) command: the controllers' own, or an escape after the base
