@@ -86,6 +86,8 @@ class FindPeopleConfig(StrictModel):
     face_min_conf: float = Field(gt=0, lt=1)
     face_frames: PositiveInt
     face_wait_s: PositiveFloat
+    orbit_speed: PositiveFloat
+    orbit_s: PositiveFloat
     ignore_s: PositiveFloat
     ignore_width_deg: PositiveFloat
     timeout_s: PositiveFloat

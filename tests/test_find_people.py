@@ -13,6 +13,7 @@ from behaviours.config import load_behaviour_config
 from behaviours.context import make_household
 from behaviours.harness import run_skill
 from behaviours.skills import find_people
+from behaviours.skills.box_steering import has_face
 from perception.detector import Detection, YoloDetector
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -82,10 +83,10 @@ def test_empty_room_fails_after_the_timeout(detector):
 def test_a_person_showing_their_back_is_not_greeted(detector):
     config = load_behaviour_config()
     config = config.model_copy(
-        update={"find_people": config.find_people.model_copy(update={"timeout_s": 14.0})})
+        update={"find_people": config.find_people.model_copy(update={"timeout_s": 20.0})})
     person = Start(x=1.8, y=2.2, yaw=190.0, pose="standing")   # facing away from the robot
     scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), person)
-    status, events, _, _ = find(scenario, detector, config, max_seconds=20.0)
+    status, events, _, _ = find(scenario, detector, config, max_seconds=25.0)
     assert status == Status.FAILURE
     assert events.of_kind("no_face") and not events.of_kind("person_found")
     assert not events.of_kind("say")
@@ -95,6 +96,6 @@ def test_face_must_lie_in_the_upper_part_of_the_person_box():
     person = Detection("person", 0.9, (100.0, 40.0, 160.0, 240.0))
     high = Detection("face", 0.8, (120.0, 50.0, 140.0, 70.0))
     low = Detection("face", 0.8, (120.0, 150.0, 140.0, 170.0))
-    assert find_people.has_face(person, [person, high], region=0.4, min_conf=0.4)
-    assert not find_people.has_face(person, [person, low], region=0.4, min_conf=0.4)
-    assert not find_people.has_face(person, [person, high], region=0.4, min_conf=0.9)
+    assert has_face(person, [person, high], region=0.4, min_conf=0.4)
+    assert not has_face(person, [person, low], region=0.4, min_conf=0.4)
+    assert not has_face(person, [person, high], region=0.4, min_conf=0.9)

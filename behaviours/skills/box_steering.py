@@ -1,0 +1,159 @@
+"""Steering by the detector's person boxes, shared by the find-people leaves: the followed
+person's track, the heading PID, fresh-frame bookkeeping, the face test, and the decorator
+that runs the camera at the tracking rate (docs/find_people.md)."""
+
+from __future__ import annotations
+
+import math
+
+import py_trees
+from py_trees.common import Status
+from simple_pid import PID
+
+from behaviours.config import FindPeopleConfig, PidGains
+from behaviours.context import Household
+from behaviours.skill import HouseholdBehaviour
+from perception.detector import Detection
+
+HOLD_PERIODS = 1.5  # without a fresh frame for this many tracking periods the base stops
+
+
+def make_pid(gains: PidGains, limit: float) -> PID:
+    """A simple-pid controller driving its input to 0, output clamped to +-``limit``; it is
+    called with the time between frames, so it runs on simulated time."""
+    return PID(gains.kp, gains.ki, gains.kd, setpoint=0.0, sample_time=None,
+               output_limits=(-limit, limit))
+
+
+def has_face(person: Detection, detections: list[Detection], region: float,
+             min_conf: float) -> bool:
+    """Whether a confident face box is centred inside the upper ``region`` of ``person``."""
+    x0, y0, x1, _ = person.box
+    for d in detections:
+        cx, cy = d.centre
+        if (d.cls == "face" and d.conf >= min_conf and x0 <= cx <= x1
+                and y0 <= cy <= y0 + region * person.height):
+            return True
+    return False
+
+
+class BoxSteering(HouseholdBehaviour):
+    """Base of the leaves that steer by a person box: fresh-frame bookkeeping, the choice
+    of the person to follow and the heading PID (turn rate from the box offset)."""
+
+    def __init__(self, name: str, house: Household) -> None:
+        super().__init__(name, house, reads=("frame", "frame_t", "detections"))
+        self.cfg: FindPeopleConfig = house.config.find_people
+        base = house.robot.cfg.base
+        self.heading = make_pid(self.cfg.heading_pid, base.max_angular_speed)
+        cam = house.robot.cfg.camera
+        self.tan_half_hfov = 4 / 3 * math.tan(math.radians(cam.fov_deg) / 2)
+        self.period = 1.0 / house.config.perception.tracking_rate
+        self._frame_t = -math.inf
+        self._command_t = -math.inf
+        self._track: float | None = None   # world direction of the followed person (rad)
+        self.hits = 0                       # frames in which the track was seen
+
+    def initialise(self) -> None:
+        self.heading.reset()
+        self._frame_t = -math.inf
+        self._command_t = -math.inf
+        self.forget()
+
+    def fresh_detections(self) -> tuple[list[Detection], float] | None:
+        """The detections of a frame not used before and the time since the previous one,
+        or None (then the base is stopped once the last command is too old)."""
+        t = self.bb.frame_t
+        if self.bb.frame is None or t <= self._frame_t:
+            if self.now - self._command_t > HOLD_PERIODS * self.period:
+                self.house.robot.stop()
+            return None
+        dt = t - self._frame_t if math.isfinite(self._frame_t) else self.period
+        self._frame_t = t
+        return self.bb.detections, dt
+
+    def command(self, vx: float, vy: float, wz: float) -> None:
+        """Drive (robot frame) until the next fresh frame."""
+        self.house.robot.set_base_velocity(vx, vy, wz)
+        self._command_t = self.now
+
+    def offset(self, box: Detection) -> float:
+        """Horizontal offset of the box centre, -1 (left edge) to 1 (right edge)."""
+        half = self.bb.frame.shape[1] / 2
+        return (box.centre[0] - half) / half
+
+    def bearing(self, box: Detection) -> float:
+        """Direction of the box centre from the optical axis (rad, counter-clockwise)."""
+        return -math.atan(self.offset(box) * self.tan_half_hfov)
+
+    def follow(self, detections: list[Detection],
+               ignored: tuple[float, ...] = ()) -> Detection | None:
+        """The person box to follow, or None; updates the track (the followed person's
+        world direction, from the robot's heading plus the box's bearing, so turning does
+        not move it) and ``hits``, the frames in which it was seen.
+
+        A box counts when its conf reaches ``perception.min_conf``, or ``keep_conf`` within
+        ``keep_gap_deg`` of the track (hysteresis: a person seen side-on is not dropped). It
+        must reach within ``bottom_margin_px`` of the image's bottom edge (at ``head_pitch``
+        every standing or seated adult's box does), and its direction must not lie within
+        ``ignore_width_deg`` of an ``ignored`` one (rad). The best ``conf - gap to the
+        track (rad)`` wins."""
+        cfg = self.cfg
+        yaw = self.house.robot.pose()[2]
+        bottom = self.bb.frame.shape[0] - cfg.bottom_margin_px
+
+        def direction(d: Detection) -> float:
+            return yaw + self.bearing(d)
+
+        def gap(d: Detection, to: float | None) -> float:
+            return math.inf if to is None else abs(math.remainder(direction(d) - to, math.tau))
+
+        def score(d: Detection) -> float:
+            return d.conf - (0.0 if self._track is None else gap(d, self._track))
+
+        keep = math.radians(cfg.keep_gap_deg)
+        boxes = [d for d in detections
+                 if d.cls == "person" and d.box[3] >= bottom
+                 and (d.conf >= self.house.config.perception.min_conf
+                      or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
+                 and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)]
+        best = max(boxes, key=score, default=None)
+        if best is not None:
+            self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1
+            self._track = direction(best)
+        return best
+
+    def forget(self) -> None:
+        """Drop the track: the next box found starts a new one."""
+        self._track, self.hits = None, 0
+
+    def terminate(self, new_status: Status) -> None:
+        self.house.robot.stop()
+
+
+class Tracking(py_trees.decorators.PassThrough):
+    """While the child runs: camera at the tracking rate (blackboard ``tracking``), head
+    straight and pitched up to ``head_pitch``. On exit: tracking off, base stopped, head
+    back where it was."""
+
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household
+                 ) -> None:
+        super().__init__(name, child)
+        self.house = house
+        self.bb = self.attach_blackboard_client(name=name)
+        self.bb.register_key("tracking", access=py_trees.common.Access.WRITE)
+        self._head: dict[str, float] = {}
+
+    def initialise(self) -> None:
+        self.bb.tracking = True
+        targets = self.house.robot.joint_targets()
+        self._head = {j: targets[j] for j in ("HeadYaw", "HeadPitch")}
+        self.house.robot.move_joints(
+            {"HeadYaw": 0.0, "HeadPitch": self.house.config.find_people.head_pitch}, 1.0)
+
+    def terminate(self, new_status: Status) -> None:
+        self.bb.tracking = False
+        self.house.robot.stop()
+        if self._head:
+            self.house.robot.move_joints(self._head, 1.0)
+            self._head = {}
