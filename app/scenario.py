@@ -310,7 +310,7 @@ class Scenario(StrictModel):
     seed: int = Field(default=0, ge=0)
     duration: Positive
     step: float = Field(default=0.1, gt=0, le=1)
-    camera_rate: float = Field(default=2.0, gt=0, le=30)
+    camera_rate: float = Field(default=1.0, gt=0, le=30)
     time_of_day: str = Field(default="10:00", pattern=r"^([01]\d|2[0-3]):[0-5]\d$")
     personality: Path | None = None
     lighting: Lighting = Lighting()

@@ -23,6 +23,7 @@ class PerceptionConfig(StrictModel):
     """How camera detections become the human-present stimulus."""
 
     tracking_rate: float = Field(gt=0, le=30)
+    centring_rate: float = Field(gt=0, le=30)
     present_min_height_px: PositiveInt
     present_hold_s: float = Field(ge=0)
     min_conf: float = Field(gt=0, lt=1)

@@ -82,7 +82,7 @@ KEYS = {
     "frame_t": "float: when it was taken (simulated s)",
     "detections": "list[Detection] in the latest frame",
     "heard": "list[SayEvent]: what people said to the robot, not yet answered",
-    "tracking": "bool: a skill follows a person (camera at the tracking rate)",
+    "tracking": "float: camera rate (Hz) a skill steering by person boxes asks for; 0: none",
 }
 
 

@@ -28,7 +28,7 @@ def run_skill(sim: Simulation, house: Household, skill: py_trees.behaviour.Behav
     bb = py_trees.blackboard.Client(name="harness")
     for key in ("action", "relieving", "tracking"):
         bb.register_key(key, access=py_trees.common.Access.WRITE)
-    bb.action, bb.relieving, bb.tracking = action, False, False
+    bb.action, bb.relieving, bb.tracking = action, False, 0.0
     start = sim.t
     root.setup_with_descendants()
     while sim.t - start < max_seconds:

@@ -3,9 +3,10 @@
 - people's social events (the simulation's inbox): lines said to the robot are queued in
   ``heard``; praise switches the encouragement stimulus on for ``encouragement_s``; a shown
   emotion colours the mood for ``emotion_hold_s``;
-- head-camera frames at the scenario's camera rate (the tracking rate while a skill follows
-  a person) go through the detector; a person box at least ``present_min_height_px`` tall
-  makes the human-present stimulus, held ``present_hold_s`` after the last one;
+- head-camera frames at the scenario's camera rate (or the rate a skill steering by person
+  boxes asks for on ``tracking``) go through the detector; a person box at least
+  ``present_min_height_px`` tall makes the human-present stimulus, held ``present_hold_s``
+  after the last one;
 - the motor temperature model gives the overheat stimulus.
 """
 
@@ -58,8 +59,8 @@ class Sense(HouseholdBehaviour):
 
     def _camera(self) -> None:
         house, cfg = self.house, self.house.config.perception
-        tracking = bool(self.bb.get("tracking")) if self.bb.exists("tracking") else False
-        period = 1.0 / (cfg.tracking_rate if tracking else house.camera_rate)
+        asked = float(self.bb.get("tracking") or 0.0) if self.bb.exists("tracking") else 0.0
+        period = 1.0 / (asked if asked > 0 else house.camera_rate)
         if self.now - self.bb.frame_t < period - 1e-6:
             return
         frame = house.robot.camera_frame()

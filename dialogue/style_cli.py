@@ -29,6 +29,9 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--export", type=Path,
                    help="also copy the model files into this folder "
                    "(e.g. assets/models/style)")
+    p.add_argument("--judges", type=Path,
+                   help="reuse the classifier and language model of this earlier run folder "
+                   "(same data split) instead of training them, e.g. for the ablation")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.set_defaults(func=run_train)
 
@@ -82,7 +85,8 @@ def run_train(args: argparse.Namespace) -> int:
     if args.no_style_autoencoder:
         cfg = cfg.model_copy(update={"model": cfg.model.model_copy(
             update={"style_autoencoder": False})})
-    summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress)
+    summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
+                    judges=args.judges)
     if args.export:
         args.export.mkdir(parents=True, exist_ok=True)
         for name in MODEL_FILES:

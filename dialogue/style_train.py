@@ -20,6 +20,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,6 +34,9 @@ from dialogue.style_io import (
     CLASSIFIER_FILE,
     LM_FILE,
     STYLE_FILE,
+    StyleModelError,
+    load_classifier,
+    load_lm,
     save_model,
     style_markers,
 )
@@ -89,8 +93,28 @@ def score(acc: float, bleu: float, min_bleu: float) -> float:
     return math.sqrt(max(acc, 0.0) * 100.0 * max(bleu, 0.0))
 
 
-def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool = True) -> dict:
-    """Run (or continue) every phase into ``out_dir``; returns the summary it also writes."""
+def adopt_judges(run: Run, data: Data, nets: dict, judges: Path) -> dict:
+    """Take the classifier and language model of an earlier run in ``judges`` instead of
+    training them (an ablation is then scored by the very same judges); both must have
+    been trained on this data split. Returns their summary entries."""
+    summary = {}
+    for phase, file, load in (("classifier", CLASSIFIER_FILE, load_classifier),
+                              ("lm", LM_FILE, load_lm)):
+        net, vocab, blob = load(judges / file)
+        if vocab.itos != data.vocab.itos or blob["meta"].get("data") != run.cfg.data.model_dump(
+                mode="json"):
+            raise StyleModelError(f"{judges / file}: trained on another data split")
+        nets[phase].load_state_dict(net.state_dict())
+        shutil.copyfile(judges / file, run.out_dir / file)
+        summary[phase] = {k: v for k, v in blob["meta"].items() if k != "data"}
+        run.finish(phase)
+    return summary
+
+
+def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool = True,
+          judges: Path | None = None) -> dict:
+    """Run (or continue) every phase into ``out_dir``; returns the summary it also writes.
+    ``judges``: a run folder whose classifier and language model are reused."""
     out_dir.mkdir(parents=True, exist_ok=True)
     tc = cfg.train
     torch.set_num_threads(tc.threads)
@@ -106,6 +130,8 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
     summary_path = out_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     summary.update({"vocab": v, "sentences": {k: len(s.labels) for k, s in data.splits.items()}})
+    if judges is not None and run.state is None and not run.done:
+        summary.update(adopt_judges(run, data, nets, judges))
     for phase in PHASES:
         if phase in run.done:
             continue

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Self
 
-from pydantic import Field, NonNegativeInt, PositiveInt, model_validator
+from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveInt, model_validator
 
 from app.config import StrictModel, load_model
 
@@ -36,6 +36,7 @@ class DataConfig(StrictModel):
     empty_fraction: float = Field(ge=0.0, le=1.0)
     furniture_per_frame: tuple[NonNegativeInt, NonNegativeInt]
     edge_margin_deg: float = Field(ge=0.0, le=45.0)
+    view_weights: tuple[NonNegativeFloat, NonNegativeFloat, NonNegativeFloat]
     examples: NonNegativeInt
     min_box_px: PositiveInt
     min_width_px: PositiveInt
@@ -49,6 +50,8 @@ class DataConfig(StrictModel):
             lo, hi = getattr(self, name)
             if lo > hi:
                 raise ValueError(f"{name}: lower bound {lo} exceeds upper bound {hi}")
+        if sum(self.view_weights) <= 0:
+            raise ValueError("view_weights: at least one weight must be positive")
         if self.distance[0] <= 0:
             raise ValueError("distance: must be positive")
         return self
@@ -58,6 +61,8 @@ class TrainConfig(StrictModel):
     """The ultralytics training run of ``companion train detector``."""
 
     model: str = Field(min_length=1)
+    init_weights: Path | None = None
+    threads: NonNegativeInt = 0
     imgsz: PositiveInt
     epochs: PositiveInt
     batch: PositiveInt
@@ -72,7 +77,7 @@ class TrainConfig(StrictModel):
 
     def ultralytics_args(self) -> dict[str, Any]:
         """Keyword arguments for ``YOLO.train`` (everything but the model yaml)."""
-        args = self.model_dump(exclude={"model", "extra"})
+        args = self.model_dump(exclude={"model", "extra", "init_weights", "threads"})
         return {**args, **self.extra}
 
 

@@ -120,7 +120,8 @@ def _person(rng: np.random.Generator, cfg: DataConfig, hfov: float) -> PersonSpe
     a = _u(rng, -1, 1) * (hfov / 2 + math.radians(cfg.edge_margin_deg))
     x, y = d * math.cos(a), d * math.sin(a)
     to_camera = math.atan2(-y, -x)
-    view = VIEWS[int(rng.integers(3))]
+    weights = np.asarray(cfg.view_weights, dtype=float)
+    view = VIEWS[int(rng.choice(len(VIEWS), p=weights / weights.sum()))]
     yaw = to_camera + {"front": 0.0, "side": float(rng.choice([-1, 1])) * math.pi / 2,
                        "back": math.pi}[view] + _u(rng, -0.4, 0.4)
     height = _u(rng, 1.1, 1.95)

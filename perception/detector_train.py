@@ -29,11 +29,18 @@ def _data_yaml(data: Path) -> Path:
 
 def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False,
                    export: Path | None = None) -> Path:
-    """Train YOLO from ``cfg.model`` (random weights) on ``data``; ultralytics writes its run
-    into ``out`` (``weights/last.pt`` every epoch, ``results.csv``). ``resume`` continues
-    ``out/weights/last.pt``. The best weights are copied to ``export`` when given (written
-    to a temporary name first, then renamed). Returns the best weights' path."""
-    yolo = ultralytics_module(verbose=True).YOLO
+    """Train YOLO from ``cfg.model`` on ``data``, from random weights or, with
+    ``cfg.init_weights``, from an earlier detector of ours, on ``cfg.threads`` CPU threads
+    (0: all). ultralytics writes its run into ``out`` (``weights/last.pt`` every epoch,
+    ``results.csv``). ``resume`` continues ``out/weights/last.pt``. The best weights are
+    copied to ``export`` when given (written to a temporary name first, then renamed).
+    Returns the best weights' path."""
+    ultralytics = ultralytics_module(verbose=True)
+    if cfg.threads:
+        from ultralytics.utils import torch_utils
+
+        torch_utils.NUM_THREADS = cfg.threads
+    yolo = ultralytics.YOLO
     out = out.resolve()
     last = out / "weights" / "last.pt"
     if resume:
@@ -45,9 +52,13 @@ def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False
         if last.exists():
             raise UserError(f"{out} already holds a training run; pass --resume to continue it "
                             "or choose another --out")
+        init = cfg.init_weights
+        if init is not None and not init.is_file():
+            raise UserError(f"{init}: train.init_weights not found")
         model = yolo(cfg.model, task="detect")
         model.train(data=str(_data_yaml(data).resolve()), project=str(out.parent),
-                    name=out.name, exist_ok=True, device="cpu", pretrained=False, amp=False,
+                    name=out.name, exist_ok=True, device="cpu", amp=False,
+                    pretrained=str(init.resolve()) if init is not None else False,
                     plots=False, val=True, **cfg.ultralytics_args())
     best = out / "weights" / "best.pt"
     if export is not None:

@@ -48,11 +48,11 @@ def living_room(robot: Placement, person: Start | None, personality: Path | None
 
 def find(scenario, detector, config=None, max_seconds=45.0):
     """Run the skill; the status, the event log, the robot's final pose and the household.
-    The skill must have switched the tracking camera off and stopped the base."""
+    The skill must have handed the camera back to its scenario rate and stopped the base."""
     with Simulation(scenario) as sim:
         house = make_household(sim, config, detector)
         status, _ = run_skill(sim, house, find_people.build(house), "find_people", max_seconds)
-        assert py_trees.blackboard.Blackboard.get("/tracking") is False
+        assert py_trees.blackboard.Blackboard.get("/tracking") == 0.0
         assert house.robot.base_velocity == (0.0, 0.0, 0.0)
         return status, house.events, sim.robot.pose(), house
 

@@ -35,7 +35,7 @@ def trained(tmp_path_factory, data_dir):
     root = tmp_path_factory.mktemp("run")
     args = argparse.Namespace(config=tiny_config(root, data_dir), out=root / "out",
                               resume=False, data=None, no_style_autoencoder=False,
-                              export=root / "models", no_progress=True)
+                              export=root / "models", no_progress=True, judges=None)
     assert style_cli.run_train(args) == 0
     return root
 
@@ -65,9 +65,22 @@ def test_tiny_training_lowers_each_loss(trained):
 def test_existing_run_needs_resume(trained):
     args = argparse.Namespace(config=trained / "tiny.yaml", out=trained / "out", resume=False,
                               data=None, no_style_autoencoder=False, export=None,
-                              no_progress=True)
+                              no_progress=True, judges=None)
     with pytest.raises(FileExistsError):
         style_cli.run_train(args)
+
+
+def test_an_ablation_reuses_the_judges_of_an_earlier_run(trained, tmp_path):
+    args = argparse.Namespace(config=trained / "tiny.yaml", out=tmp_path / "ablation",
+                              resume=False, data=None, no_style_autoencoder=True, export=None,
+                              no_progress=True, judges=trained / "out")
+    assert style_cli.run_train(args) == 0
+    for name in ("classifier.pt", "lm.pt"):
+        assert (tmp_path / "ablation" / name).read_bytes() == (trained / "out" / name).read_bytes()
+    assert not (tmp_path / "ablation" / "log_classifier.csv").exists()
+    summary = json.loads((tmp_path / "ablation" / "summary.json").read_text())
+    assert summary["classifier"]["test_accuracy"] > 0.9
+    assert (tmp_path / "ablation" / "style.pt").exists()
 
 
 def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monkeypatch):

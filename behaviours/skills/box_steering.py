@@ -1,6 +1,7 @@
 """Steering by the detector's person boxes, shared by the find-people leaves: the followed
 person's track, the heading PID, fresh-frame bookkeeping, the face test, and the decorator
-that runs the camera at the tracking rate (docs/find_people.md)."""
+that points the head for them (docs/find_people.md). Each leaf asks Sense for camera frames
+at its own rate (blackboard ``tracking``)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour
 from perception.detector import Detection
 
-HOLD_PERIODS = 1.5  # without a fresh frame for this many tracking periods the base stops
+HOLD_PERIODS = 1.5  # without a fresh frame for this many camera periods the base stops
 
 
 def make_pid(gains: PidGains, limit: float) -> PID:
@@ -39,22 +40,26 @@ def has_face(person: Detection, detections: list[Detection], region: float,
 
 class BoxSteering(HouseholdBehaviour):
     """Base of the leaves that steer by a person box: fresh-frame bookkeeping, the choice
-    of the person to follow and the heading PID (turn rate from the box offset)."""
+    of the person to follow and the heading PID (turn rate from the box offset). While it
+    runs, the camera takes ``rate`` frames a second."""
 
-    def __init__(self, name: str, house: Household) -> None:
-        super().__init__(name, house, reads=("frame", "frame_t", "detections"))
+    def __init__(self, name: str, house: Household, rate: float) -> None:
+        super().__init__(name, house, reads=("frame", "frame_t", "detections"),
+                         writes=("tracking",))
+        self.rate = rate
         self.cfg: FindPeopleConfig = house.config.find_people
         base = house.robot.cfg.base
         self.heading = make_pid(self.cfg.heading_pid, base.max_angular_speed)
         cam = house.robot.cfg.camera
         self.tan_half_hfov = 4 / 3 * math.tan(math.radians(cam.fov_deg) / 2)
-        self.period = 1.0 / house.config.perception.tracking_rate
+        self.period = 1.0 / rate
         self._frame_t = -math.inf
         self._command_t = -math.inf
         self._track: float | None = None   # world direction of the followed person (rad)
         self.hits = 0                       # frames in which the track was seen
 
     def initialise(self) -> None:
+        self.bb.tracking = self.rate
         self.heading.reset()
         self._frame_t = -math.inf
         self._command_t = -math.inf
@@ -132,9 +137,9 @@ class BoxSteering(HouseholdBehaviour):
 
 
 class Tracking(py_trees.decorators.PassThrough):
-    """While the child runs: camera at the tracking rate (blackboard ``tracking``), head
-    straight and pitched up to ``head_pitch``. On exit: tracking off, base stopped, head
-    back where it was."""
+    """While the child runs: head straight and pitched up to ``head_pitch``. On exit: the
+    camera back at the scenario's rate (blackboard ``tracking`` 0), base stopped, head back
+    where it was."""
 
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household
                  ) -> None:
@@ -145,14 +150,13 @@ class Tracking(py_trees.decorators.PassThrough):
         self._head: dict[str, float] = {}
 
     def initialise(self) -> None:
-        self.bb.tracking = True
         targets = self.house.robot.joint_targets()
         self._head = {j: targets[j] for j in ("HeadYaw", "HeadPitch")}
         self.house.robot.move_joints(
             {"HeadYaw": 0.0, "HeadPitch": self.house.config.find_people.head_pitch}, 1.0)
 
     def terminate(self, new_status: Status) -> None:
-        self.bb.tracking = False
+        self.bb.tracking = 0.0
         self.house.robot.stop()
         if self._head:
             self.house.robot.move_joints(self._head, 1.0)

@@ -38,7 +38,7 @@ class ApproachPerson(BoxSteering):
     it is no person) is ignored for ``ignore_s``. FAILURE after ``timeout_s``."""
 
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
-        super().__init__(name, house)
+        super().__init__(name, house, house.config.perception.tracking_rate)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
         self._start = self._seen = self._near_since = 0.0   # s: started, person last seen, near
         self._faces = 0                          # frames of the followed person with a face
@@ -156,7 +156,7 @@ class KeepCentred(BoxSteering):
     nobody is seen. RUNNING until stopped."""
 
     def __init__(self, house: Household, name: str = "Keep them centred") -> None:
-        super().__init__(name, house)
+        super().__init__(name, house, house.config.perception.centring_rate)
 
     def update(self) -> Status:
         fresh = self.fresh_detections()
