@@ -88,8 +88,10 @@ def joint_xml(name: str, parent: str, child: str, xyz: Vec3, revolute: bool = Fa
 
 def load_urdf_text(client: int, name: str, body_xml: str, position: Vec3 = (0, 0, 0),
                    yaw: float = 0.0) -> int:
-    """Load a fixed-base body from URDF text (links and joints) and return its id."""
-    text = f'<?xml version="1.0"?><robot name="{name}">{body_xml}</robot>'
+    """Load a fixed-base body from URDF text (links and joints) and return its id. The text
+    is written one element a line: PyBullet's URDF reader rejects very long lines (a cake
+    with ten candles makes a line of more than 8 kB)."""
+    text = f'<?xml version="1.0"?><robot name="{name}">{body_xml}</robot>'.replace("><", ">\n<")
     fd, path = tempfile.mkstemp(suffix=".urdf")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:

@@ -106,7 +106,7 @@ def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | Non
     qa = QABot(weather=weather,
                feed=args.feed or SAMPLE_FEED, household=household, out_dir=out,
                take_photo=scenario_camera(scenario_path, out))
-    manager = DialogueManager(qa, chitchat=shipped_chitchat(),
+    manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
                               on_reply=reply_logger(Path(out) / "dialogue.jsonl"))
     return manager, drives, personality
 
@@ -128,6 +128,13 @@ def shipped_chitchat() -> Any:
     from dialogue.chat_model import ChitChatModel
 
     return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
+
+
+def shipped_style() -> Any:
+    """The shipped mood style-transfer model, or None while none has been trained."""
+    from dialogue.style import DEFAULT_STYLE_MODEL, StyleTransfer
+
+    return StyleTransfer.load(DEFAULT_STYLE_MODEL) if DEFAULT_STYLE_MODEL.is_file() else None
 
 
 def _print_reply(reply: Any, out: TextIO) -> None:

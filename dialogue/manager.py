@@ -77,12 +77,13 @@ class Reply:
     action: Action | None = None
     tablet: str | None = None
     mood: str | None = None
+    unstyled: str | None = None   # the chit-chat reply before the style transfer changed it
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for logs and ``--json`` output."""
         return {"text": self.text, "route": self.route,
                 "action": self.action.to_dict() if self.action else None,
-                "tablet": self.tablet, "mood": self.mood}
+                "tablet": self.tablet, "mood": self.mood, "unstyled": self.unstyled}
 
 
 def clean_input(text: object, max_chars: int = MAX_CHARS) -> str:
@@ -183,13 +184,15 @@ class DialogueManager:
             log.exception("chit-chat model failed on %r", said)
             return Reply("Sorry, I lost my train of thought. Could you say that again?",
                          "chitchat_error", mood=mood)
+        plain = text
         if self.style is not None and text:
             try:
                 styled = self.style.translate([text], mood)
                 text = (styled[0].strip() or text) if styled else text
             except Exception:
                 log.exception("style transfer failed on %r", text)
-        return Reply(text or "Hmm.", CHITCHAT, mood=mood)
+        return Reply(text or "Hmm.", CHITCHAT, mood=mood,
+                     unstyled=plain if text != plain else None)
 
 
 __all__ = ["CATEGORIES", "ChitChat", "DialogueContext", "DialogueManager", "Reply",

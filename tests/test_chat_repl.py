@@ -75,7 +75,8 @@ def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
     rows = [json.loads(line) for line in stdout.getvalue().splitlines()]
     assert [r["route"] for r in rows] == ["time", "empty", "information",
                                           "chitchat"]
-    assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood"} for r in rows)
+    assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood",
+                                 "unstyled"} for r in rows)
     assert rows[0]["mood"] == "positive" and rows[2]["tablet"].startswith("https://")
 
 

@@ -15,7 +15,7 @@ from app.policy.config import load_policy_config
 from app.policy.env import VecHomeostasisEnv
 from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
-from app.policy.train import selection_score, train
+from app.policy.train import action_discounts, selection_score, train
 
 
 @pytest.fixture(scope="module")
@@ -110,6 +110,15 @@ def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
     assert summary["transitions"] >= 1200
     rows = (tmp_path / "train_log.csv").read_text().splitlines()
     assert rows[0].startswith("transitions,") and len(rows) > 1
+
+
+def test_discount_per_decision_or_per_time():
+    durations = np.array([1000, 100, 30, 12])
+    assert torch.allclose(action_discounts(0.99, durations, None), torch.full((4,), 0.99))
+    per_time = action_discounts(0.99, durations, 12)
+    expected = torch.tensor([0.99 ** (1000 / 12), 0.99 ** (100 / 12), 0.99 ** 2.5, 0.99])
+    assert torch.allclose(per_time, expected)
+    assert per_time[0] < 0.44  # a charge costs the future as much as 83 stand-bys
 
 
 def test_selection_prefers_secure_then_rewarding_policies():

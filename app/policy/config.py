@@ -64,6 +64,7 @@ class TrainConfig(StrictModel):
     terminate_on_insecure: bool
     total_transitions: int = Field(ge=1)
     gamma: float = Field(ge=0, le=1)
+    gamma_steps: int | None = Field(default=None, ge=1)
     learning_rate: float = Field(gt=0)
     learning_rate_end: float | None = Field(default=None, gt=0)
     rmsprop_alpha: float = Field(gt=0, lt=1)

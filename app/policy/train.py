@@ -46,11 +46,22 @@ def export_policy(q: DuelingQNetwork, cfg: PolicyConfig, path: Path, meta: dict)
                        "meta": meta}, path)
 
 
+def action_discounts(gamma: float, durations: np.ndarray, gamma_steps: int | None
+                     ) -> torch.Tensor:
+    """The discount of each action's transition: ``gamma`` per decision, or with
+    ``gamma_steps`` ``gamma ** (duration / gamma_steps)``, so that a long action (a charge
+    of 1000 steps) costs the future as much time as it takes (semi-Markov discounting)."""
+    exponent = np.ones(len(durations)) if gamma_steps is None else durations / gamma_steps
+    return torch.as_tensor(gamma ** exponent, dtype=torch.float32)
+
+
 def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.optim.Optimizer,
-               batch: tuple[np.ndarray, ...], gamma: float,
+               batch: tuple[np.ndarray, ...], discounts: torch.Tensor,
                max_grad_norm: float | None) -> float:
-    """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y."""
+    """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y; ``discounts``
+    holds the discount of each action (:func:`action_discounts`)."""
     obs, act, rew, nxt, terminal = (torch.as_tensor(x) for x in batch)
+    gamma = discounts[act]
     q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
     q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
     with torch.no_grad():  # the online net picks the next action, the target net rates it
@@ -103,6 +114,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                                     alpha=tc.rmsprop_alpha, eps=tc.rmsprop_eps,
                                     foreach=True)
     memory = ReplayBuffer(tc.buffer_size, n_obs)
+    discounts = action_discounts(tc.gamma, homeostasis.duration, tc.gamma_steps)
     transitions = updates = episodes = 0
     credit, wall_offset = 0.0, 0.0
     best: tuple[float, float] | None = None
@@ -202,7 +214,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                     for group in optimizer.param_groups:
                         group["lr"] = linear_schedule(tc.learning_rate, tc.learning_rate_end,
                                                       tc.total_transitions, transitions)
-                dqn_update(q, target, optimizer, memory.sample(rng, tc.batch_size), tc.gamma,
+                dqn_update(q, target, optimizer, memory.sample(rng, tc.batch_size), discounts,
                            tc.max_grad_norm)
                 updates += 1
                 if updates % tc.target_sync_updates == 0:
