@@ -86,6 +86,7 @@ class LossWeights(StrictModel):
     rec: float = Field(ge=0)
     adv: float = Field(ge=0)
     cycle: float = Field(ge=0)
+    per_word: bool = False   # rec and cycle per word instead of summed over the sentence
 
 
 class GumbelConfig(StrictModel):

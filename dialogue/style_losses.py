@@ -45,7 +45,9 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
 
     Returns the weighted total, the separate (unweighted) losses and, when ``adversarial``,
     the detached real and transferred hidden-state sequences for the discriminator step.
-    Without ``adversarial`` only eqs. 3.8 and 3.11 are computed (the warm-up phase).
+    Without ``adversarial`` only eqs. 3.8 and 3.11 are computed (the warm-up phase). With
+    ``weights.per_word`` the sentence losses (rec, cycle) enter the total divided by the
+    batch's mean sentence length, which strengthens the adversarial term by that factor.
     """
     labels = batch.labels
     flipped = 1 - labels
@@ -55,8 +57,9 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
     h_real, logits = model.generator.teacher_force(emb, z, y_src, model.embedding.weight)
     losses = {"style": model.style.loss(labels),
               "rec": masked_nll(logits, batch.targets).mean()}  # eq. 3.11
+    length = batch.mask.sum() / len(labels) if weights.per_word else 1.0
     if not adversarial:
-        return weights.style * losses["style"] + weights.rec * losses["rec"], losses, None
+        return weights.style * losses["style"] + weights.rec * losses["rec"] / length, losses, None
     steps = batch.inputs.shape[1]
     bos = model.embedding.weight[BOS_ID]
     h_fake, words = model.generator.free_run(model.embedding, bos, z, y_tgt, steps, tau)
@@ -67,8 +70,8 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
     _, logits_cycle = model.generator.teacher_force(emb, z_cycle, y_src,
                                                        model.embedding.weight)
     losses["cycle"] = masked_nll(logits_cycle, batch.targets).mean()
-    total = (weights.style * losses["style"] + weights.rec * losses["rec"]
-             + weights.adv * losses["adv"] + weights.cycle * losses["cycle"])
+    total = (weights.style * losses["style"] + weights.rec * losses["rec"] / length
+             + weights.adv * losses["adv"] + weights.cycle * losses["cycle"] / length)
     return total, losses, (h_real.detach(), h_fake.detach())
 
 

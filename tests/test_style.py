@@ -150,6 +150,21 @@ def test_losses_have_the_thesis_terms(model):
     assert model.discriminator(h_real, b.mask).shape == (3, FAKE + 1)
 
 
+def test_per_word_weights_divide_the_sentence_losses_by_the_mean_length(model):
+    b = make_batch([[5, 6, 7], [8, 9], [10]], [0, 1, 1])  # 4 + 3 + 2 targets with <eos>
+    w = load_style_config().train.weights
+    totals = {}
+    for per_word in (False, True):
+        torch.manual_seed(3)
+        total, losses, _ = transfer_losses(model, b, 0.5, w.model_copy(
+            update={"per_word": per_word}))
+        totals[per_word] = total.item()
+    words = 9 / 3
+    expected = (losses["style"] + (losses["rec"] + 0.3 * losses["cycle"]) / words
+                + losses["adv"]).item()
+    assert abs(totals[True] - expected) < 1e-4 and totals[True] < totals[False]
+
+
 def test_generator_steps_lower_the_adversarial_loss(model):
     torch.manual_seed(1)
     b = make_batch([[5, 6, 7, 8], [9, 10], [11, 12, 13]] * 4, [0, 1, 1] * 4)
