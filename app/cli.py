@@ -14,7 +14,7 @@ import sys
 from app import __version__
 
 DOMAINS = ["app.policy.cli", "dialogue.cli", "dialogue.style_cli", "dialogue.chat_cli",
-           "perception.cli", "app.run_cli"]
+           "perception.cli", "perception.vqg_cli", "app.run_cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
           "data": "generate a data set"}
 

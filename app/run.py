@@ -61,8 +61,9 @@ class HouseholdRun:
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
               policy_path: Path | None = None, behaviour_config: Path | None = None,
               audio: bool = False) -> HouseholdRun:
-    """Build the world, the robot's services (detector, dialogue, policy) and the tree; the
-    run's files go to ``out``."""
+    """Build the world, the robot's services (detector, dialogue, question generator,
+    policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
+    ask-question skill fails (it has no canned questions)."""
     from app.policy.agent import DEFAULT_POLICY, DQNPolicy
     from behaviours.config import load_behaviour_config
     from behaviours.context import make_household
@@ -70,6 +71,7 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     from dialogue.household_dialogue import household_dialogue
     from perception.detector import YoloDetector
     from perception.detector_config import load_detector_config
+    from perception.vqg import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
@@ -82,8 +84,11 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
         return out / "frames" / str(saver("photo", sim.robot.camera_frame()))
 
     dialogue = household_dialogue(scenario, lambda: sim.t, out, take_photo)
+    questions = (VqgQuestionGenerator.load(DEFAULT_VQG_MODEL, seed=scenario.seed)
+                 if DEFAULT_VQG_MODEL.is_file() else None)
     house = make_household(sim, config, detector, events_path=out / "events.jsonl",
-                           audio_dir=out / "audio" if audio else None, dialogue=dialogue)
+                           audio_dir=out / "audio" if audio else None, dialogue=dialogue,
+                           questions=questions)
     house.snapshot = saver
     root = build_tree(house, policy, scenario.robot.initial_drives())
     root.setup_with_descendants()

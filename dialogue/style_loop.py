@@ -32,8 +32,9 @@ class Run:
     """A training run folder and its checkpoint (see the module docstring)."""
 
     def __init__(self, cfg: StyleConfig, out_dir: Path, nets: dict[str, nn.Module],
-                 resume: bool, progress: bool) -> None:
+                 resume: bool, progress: bool, name: str = "style") -> None:
         self.cfg, self.out_dir, self.nets, self.progress = cfg, out_dir, nets, progress
+        self.name = name  # shown on the progress bars
         self.ckpt_path = out_dir / "checkpoint.pt"
         if self.ckpt_path.exists() and not resume:
             raise FileExistsError(f"{self.ckpt_path} exists: pass --resume to continue it, "
@@ -93,7 +94,8 @@ class Run:
             extra.update(self.state["extra"])
         log = self._open_log(phase, ["step", *fields, "wall_s"], start)
         writer = csv.writer(log)
-        bar = tqdm(total=total, initial=start, desc=f"style {phase}", disable=not self.progress)
+        bar = tqdm(total=total, initial=start, desc=f"{self.name} {phase}",
+                   disable=not self.progress)
         sums: dict[str, list[float]] = defaultdict(list)
         done = start
 
