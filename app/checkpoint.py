@@ -3,30 +3,43 @@
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 import torch
 
 from app.errors import UserError
 
 
-def atomic_torch_save(obj: Any, path: str | Path) -> None:
-    """``torch.save`` to a temporary file in the same folder, then rename it over ``path``."""
+def atomic_write(path: str | Path, write: Callable[[BinaryIO], Any]) -> None:
+    """Call ``write`` on a temporary file in the same folder, then rename it over ``path``."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         os.fchmod(fd, 0o644)  # mkstemp creates private files; checkpoints are ordinary ones
         with os.fdopen(fd, "wb") as fh:
-            torch.save(obj, fh)
+            write(fh)
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def atomic_torch_save(obj: Any, path: str | Path) -> None:
+    """``torch.save`` ``obj`` to ``path`` atomically."""
+    atomic_write(path, lambda fh: torch.save(obj, fh))
+
+
+def atomic_copy(src: str | Path, dst: str | Path) -> None:
+    """Copy the file ``src`` to ``dst`` atomically (an exported model is whole or absent)."""
+    with Path(src).open("rb") as source:
+        atomic_write(dst, lambda fh: shutil.copyfileobj(source, fh))
 
 
 def read_weights(path: str | Path, error: type[UserError], missing_hint: str) -> Any:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 from pathlib import Path
 from typing import Any
 
@@ -51,8 +50,9 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume,
                     progress=not getattr(args, "no_progress", False))
     if args.export:
-        args.export.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(args.out / MODEL_FILE, args.export)
+        from app.checkpoint import atomic_copy
+
+        atomic_copy(args.out / MODEL_FILE, args.export)
         summary["exported"] = str(args.export)
     print(json.dumps(summary, indent=2))
     return 0

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 import sys
 from pathlib import Path
 
@@ -88,9 +87,11 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     judges=args.judges)
     if args.export:
+        from app.checkpoint import atomic_copy
+
         args.export.mkdir(parents=True, exist_ok=True)
         for name in MODEL_FILES:
-            shutil.copyfile(args.out / name, args.export / name)
+            atomic_copy(args.out / name, args.export / name)
     print(json.dumps(summary, indent=2))
     return 0
 

@@ -20,13 +20,13 @@ from __future__ import annotations
 import csv
 import json
 import math
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
 import torch
 import yaml
 
+from app.checkpoint import atomic_copy
 from dialogue.style_config import StyleConfig
 from dialogue.style_data import BatchSampler, Split, Vocab, load_splits
 from dialogue.style_decode import transfer_ids
@@ -105,7 +105,7 @@ def adopt_judges(run: Run, data: Data, nets: dict, judges: Path) -> dict:
                 mode="json"):
             raise StyleModelError(f"{judges / file}: trained on another data split")
         nets[phase].load_state_dict(net.state_dict())
-        shutil.copyfile(judges / file, run.out_dir / file)
+        atomic_copy(judges / file, run.out_dir / file)
         summary[phase] = {k: v for k, v in blob["meta"].items() if k != "data"}
         run.finish(phase)
     return summary

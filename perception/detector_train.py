@@ -4,7 +4,6 @@ detector``). The data set comes from ``companion data detector`` (docs/detector.
 from __future__ import annotations
 
 import json
-import shutil
 import statistics
 import tempfile
 import time
@@ -13,6 +12,7 @@ from typing import Any
 
 import cv2
 
+from app.checkpoint import atomic_copy
 from app.errors import UserError
 from perception.detector import YoloDetector
 from perception.detector_config import TrainConfig
@@ -62,10 +62,7 @@ def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False
                     plots=False, val=True, **cfg.ultralytics_args())
     best = out / "weights" / "best.pt"
     if export is not None:
-        export.parent.mkdir(parents=True, exist_ok=True)
-        tmp = export.with_name(f".{export.name}.tmp")
-        shutil.copyfile(best, tmp)
-        tmp.replace(export)
+        atomic_copy(best, export)
     return best
 
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import shutil
 from pathlib import Path
 
 DEFAULT_MODEL = Path(__file__).resolve().parents[1] / "assets" / "models" / "vqg.pt"
@@ -123,8 +122,9 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     image_from=args.image_from)
     if args.export:
-        args.export.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(args.out / "vqg.pt", args.export)
+        from app.checkpoint import atomic_copy
+
+        atomic_copy(args.out / "vqg.pt", args.export)
     print(json.dumps(summary, indent=2))
     return 0
 

@@ -49,8 +49,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
 
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train policy``."""
-    import shutil
-
+    from app.checkpoint import atomic_copy
     from app.personality import load_personality
     from app.policy.config import load_policy_config
     from app.policy.plots import training_curves
@@ -62,8 +61,7 @@ def run_train(args: argparse.Namespace) -> int:
                     progress=not args.no_progress)
     training_curves(args.out / "train_log.csv", args.out / "plots")
     if args.export:
-        args.export.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(args.out / "policy.pt", args.export)
+        atomic_copy(args.out / "policy.pt", args.export)
     print(json.dumps(summary, indent=2))
     return 0
 
