@@ -31,6 +31,11 @@ def atomic_write(path: str | Path, write: Callable[[BinaryIO], Any]) -> None:
         raise
 
 
+def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically."""
+    atomic_write(path, lambda fh: fh.write(data))
+
+
 def atomic_torch_save(obj: Any, path: str | Path) -> None:
     """``torch.save`` ``obj`` to ``path`` atomically."""
     atomic_write(path, lambda fh: torch.save(obj, fh))

@@ -36,6 +36,7 @@ class Simulation:
         start = self.world.robot_start()
         self.robot = Robot(self.client, (start.x, start.y, start.yaw),
                            load_robot_config(robot_config))
+        self.world.pass_through(self.robot.body_id)
         self.robot.set_lighting(self.world.light.camera_kwargs())
         self.robot.set_battery(scenario.robot.battery)
 

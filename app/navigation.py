@@ -140,6 +140,17 @@ class OccupancyGrid:
         cells = np.clip(np.floor(mids).astype(int), 0, np.array(self.blocked.shape) - 1)
         return not self.blocked[cells[:, 0], cells[:, 1]].any()
 
+    def clear_ahead(self, a: Point, b: Point) -> bool:
+        """Whether the segment a-b is free beyond ``radius`` of ``a`` (a robot standing close
+        to furniture starts inside its inflated footprint) and free from its first free
+        point on."""
+        steps = max(1, math.ceil(math.dist(a, b) / self.resolution))
+        points = [(a[0] + (b[0] - a[0]) * k / steps, a[1] + (b[1] - a[1]) * k / steps)
+                  for k in range(steps + 1)]
+        first = next((k for k, q in enumerate(points)
+                      if self.is_free(*q) or math.dist(a, q) > self.radius), len(points))
+        return all(self.is_free(*q) for q in points[first:])
+
 
 def grid_graph(free: np.ndarray, resolution: float) -> nx.Graph:
     """8-connected graph of the free cells; edges weigh their length in metres, and a
@@ -210,6 +221,19 @@ class Planner:
         if grid.cell(*goal) == goal_cell:
             points[-1] = goal
         return shortcut(grid, points)
+
+    def nearest_goal(self, start: Point, goals: Sequence[Point],
+                     extra: Sequence[float] | None = None) -> Point | None:
+        """Of ``goals`` in free cells of the static grid, the one with the least path length
+        from ``start`` (snapped to its nearest free cell) plus its ``extra`` cost (m), or
+        None when none is reachable."""
+        grid = self.grid
+        lengths = nx.single_source_dijkstra_path_length(
+            self.graph, grid.nearest(grid.cell(*start)), weight="weight")
+        extra = extra or [0.0] * len(goals)
+        reachable = [(lengths[c] + e, g) for g, e in zip(goals, extra, strict=True)
+                     if (c := grid.cell(*g)) in lengths]
+        return min(reachable)[1] if reachable else None
 
 
 @lru_cache(maxsize=8)

@@ -198,7 +198,7 @@ OBJECT_COLOURS = {"mug": "#d9d4c7", "cake": "#f5d7b0", "ball": "#d23c3c", "book"
                   "plate": "#f7f7f7"}
 
 
-def _object_xml(o: SceneObject, c: Rgb) -> str:
+def object_xml(o: SceneObject, c: Rgb) -> str:
     """URDF text of a primitive object (origin at its bottom centre), before scaling."""
     k = o.scale
 
@@ -293,6 +293,7 @@ class World:
         self.people: dict[str, Person] = {}
         self._specs = {person.name: person for person in scenario.people}
         self._walks: dict[str, _Walk] = {}
+        self._untouchable: list[int] = []    # bodies people pass through (the robot)
         self._footprints: list[Footprint] = []
         self._tops: dict[str, float] = {}
         p.setGravity(0, 0, -9.81, physicsClientId=client)
@@ -403,7 +404,7 @@ class World:
                                     physicsClientId=self.client)
         else:
             colour = rgb(o.colour or OBJECT_COLOURS[o.type])
-            body = load_urdf_text(self.client, name, _object_xml(o, colour), (0, 0, 0), yaw)
+            body = load_urdf_text(self.client, name, object_xml(o, colour), (0, 0, 0), yaw)
         (x0, y0, z0), (x1, y1, _) = p.getAABB(body, -1, physicsClientId=self.client)
         pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
         p.resetBasePositionAndOrientation(
@@ -441,6 +442,22 @@ class World:
         look = Appearance(b.height, b.width, rgb(b.shirt), rgb(b.trousers), rgb(b.skin),
                           rgb(b.hair))
         self.people[name] = Person(self.client, look, x, y, yaw, pose, name)  # type: ignore[arg-type]
+        for body in self._untouchable:
+            self._no_contacts(self.people[name].body_id, body)
+
+    def pass_through(self, body: int) -> None:
+        """People, present and to come, make no contacts with ``body`` (the robot): they are
+        moved kinematically, and a person walking into the robot would throw its joints
+        about. Distance queries (the robot's own collision checks) still see them."""
+        self._untouchable.append(body)
+        for person in self.people.values():
+            self._no_contacts(person.body_id, body)
+
+    def _no_contacts(self, a: int, b: int) -> None:
+        c = self.client
+        for i in range(-1, p.getNumJoints(a, physicsClientId=c)):
+            for j in range(-1, p.getNumJoints(b, physicsClientId=c)):
+                p.setCollisionFilterPair(a, b, i, j, 0, physicsClientId=c)
 
     def _door_spawn(self, door_name: str) -> Pose2D:
         """Just inside a door, facing into its room."""

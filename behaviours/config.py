@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import Field, NonNegativeInt, PositiveFloat, PositiveInt
+from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveFloat, PositiveInt
 
 from app.config import StrictModel, load_model
 
@@ -91,6 +91,12 @@ class FindPeopleConfig(StrictModel):
     orbit_s: PositiveFloat
     ignore_s: PositiveFloat
     ignore_width_deg: PositiveFloat
+    vanish_strikes: PositiveInt
+    person_height_m: PositiveFloat
+    detour_distance_m: PositiveFloat
+    detour_candidates: PositiveInt
+    detour_arc_weight: NonNegativeFloat
+    max_detours: NonNegativeInt
     timeout_s: PositiveFloat
 
 

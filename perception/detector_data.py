@@ -10,7 +10,6 @@ occluded instances. :func:`write_dataset` writes an ultralytics YOLO data set.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +19,7 @@ import numpy as np
 import pybullet as p
 import yaml
 
+from app.checkpoint import atomic_write_bytes
 from app.people import POSES, Appearance, Part, Person, PoseName, build_body
 from app.robot import Robot, decode_segmentation
 from app.world import WALL_THICKNESS, Light, furniture_parts
@@ -175,7 +175,7 @@ def sample_scene(seed: int | np.random.SeedSequence, cfg: DataConfig, hfov: floa
                      _u(rng, -0.2, 0.35))
 
 
-def _room_parts(spec: SceneSpec) -> list[Part]:
+def room_parts(spec: SceneSpec) -> list[Part]:
     """Floor and four walls (2.6 m) of the room around the robot."""
     back, t, h = -1.5, WALL_THICKNESS, 2.6
     length, mid = spec.depth - back, (spec.depth + back) / 2
@@ -217,7 +217,7 @@ class DetectorScene:
 
     def render(self, spec: SceneSpec) -> Frame:
         """Build the scene, render it, label it, and remove what was built."""
-        built = [build_body(self.client, "room", _room_parts(spec))]
+        built = [build_body(self.client, "room", room_parts(spec))]
         for f in spec.furniture:
             parts, _ = furniture_parts(f.kind, *f.size, f.colour)
             built.append(build_body(self.client, f.kind, parts, (f.x, f.y, 0), f.yaw))
@@ -295,13 +295,8 @@ def draw_boxes(rgb: np.ndarray, boxes: list[Box]) -> np.ndarray:
     return img
 
 
-def _write_atomic(path: Path, data: bytes) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
-
-
-def _png(img_bgr: np.ndarray) -> bytes:
+def encode_png(img_bgr: np.ndarray) -> bytes:
+    """PNG file bytes of a BGR image."""
     ok, buf = cv2.imencode(".png", img_bgr)
     if not ok:
         raise RuntimeError("PNG encoding failed")
@@ -334,13 +329,13 @@ def write_dataset(out: Path, cfg: DataConfig,
                         progress(1)
                     continue
                 frame = scene.render(scene.sample(np.random.SeedSequence([cfg.seed, k, i])))
-                _write_atomic(images / f"{i:06d}.png",
-                              _png(cv2.cvtColor(frame.rgb, cv2.COLOR_RGB2BGR)))
+                atomic_write_bytes(images / f"{i:06d}.png",
+                              encode_png(cv2.cvtColor(frame.rgb, cv2.COLOR_RGB2BGR)))
                 if example:
-                    _write_atomic(out / "examples" / f"{split}_{i:06d}.png",
-                                  _png(draw_boxes(frame.rgb, frame.boxes)))
+                    atomic_write_bytes(out / "examples" / f"{split}_{i:06d}.png",
+                                  encode_png(draw_boxes(frame.rgb, frame.boxes)))
                 text = "".join(b.yolo(w, h) + "\n" for b in frame.boxes)
-                _write_atomic(label, text.encode())
+                atomic_write_bytes(label, text.encode())
                 done[split] += 1
                 if progress:
                     progress(1)
@@ -348,5 +343,5 @@ def write_dataset(out: Path, cfg: DataConfig,
         scene.close()
     meta = {"path": str(out.resolve()), "train": "images/train", "val": "images/val",
             "test": "images/test", "names": dict(enumerate(CLASSES))}
-    _write_atomic(out / "data.yaml", yaml.safe_dump(meta, sort_keys=False).encode())
+    atomic_write_bytes(out / "data.yaml", yaml.safe_dump(meta, sort_keys=False).encode())
     return done

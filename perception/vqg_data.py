@@ -19,8 +19,9 @@ import cv2
 import numpy as np
 from pydantic import Field, NonNegativeInt, PositiveInt
 
+from app.checkpoint import atomic_write_bytes
 from app.config import StrictModel, load_model
-from perception.detector_data import _png, _write_atomic
+from perception.detector_data import encode_png
 from perception.vqg_facts import generate_questions
 from perception.vqg_layout import sample_plan
 from perception.vqg_render import VqgRenderer
@@ -148,9 +149,9 @@ def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
                     seed = np.random.SeedSequence([cfg.seed, k, i])
                     rgb, graph = render_scene(seed, cfg, renderer)
                     record = {"id": name, "questions": questions_for(graph, seed, cfg)}
-                    _write_atomic(png, _png(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)))
-                    _write_atomic(scene, graph.to_json().encode())
-                    _write_atomic(qfile, json.dumps(record).encode())
+                    atomic_write_bytes(png, encode_png(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)))
+                    atomic_write_bytes(scene, graph.to_json().encode())
+                    atomic_write_bytes(qfile, json.dumps(record).encode())
                     done[split] += 1
                 tick(1)
             _collect(out, split, n)
@@ -162,7 +163,7 @@ def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
     meta = {"recipe": cfg.model_dump(mode="json"), "seed": cfg.seed, "counts": splits,
             "rendered_now": done, "seconds_now": round(seconds, 1),
             "frames_per_s": round(sum(done.values()) / seconds, 3) if sum(done.values()) else None}
-    _write_atomic(out / "meta.json", json.dumps(meta, indent=1).encode())
+    atomic_write_bytes(out / "meta.json", json.dumps(meta, indent=1).encode())
     return done
 
 
@@ -170,7 +171,7 @@ def _collect(out: Path, split: str, n: int) -> None:
     """``questions/{split}.jsonl`` from the per-frame question files."""
     folder = out / "questions" / split
     lines = [(folder / f"{i:06d}.json").read_text(encoding="utf-8") + "\n" for i in range(n)]
-    _write_atomic(out / "questions" / f"{split}.jsonl", "".join(lines).encode())
+    atomic_write_bytes(out / "questions" / f"{split}.jsonl", "".join(lines).encode())
 
 
 def _examples(out: Path, count: int) -> None:
@@ -181,10 +182,10 @@ def _examples(out: Path, count: int) -> None:
     for i in range(min(count, len(list((out / "images" / "train").glob("*.png"))))):
         name = f"{i:06d}"
         image = (out / "images" / "train" / f"{name}.png").read_bytes()
-        _write_atomic(folder / f"train_{name}.png", image)
+        atomic_write_bytes(folder / f"train_{name}.png", image)
         record = json.loads((out / "questions" / "train" / f"{name}.json").read_text())
         graph = load_scene(out / "scenes" / "train" / f"{name}.json")
         text.append(f"== train_{name}.png  room {graph.room}, occasion {graph.occasion}, "
                     f"{len(graph.nodes)} nodes: {', '.join(n.id for n in graph.nodes)}")
         text += [f"  {q}" for q in record["questions"]]
-    _write_atomic(folder / "examples.txt", ("\n".join(text) + "\n").encode())
+    atomic_write_bytes(folder / "examples.txt", ("\n".join(text) + "\n").encode())

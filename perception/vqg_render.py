@@ -23,9 +23,9 @@ import pybullet_data
 
 from app.people import Part, Person, build_body, load_urdf_text
 from app.scenario import SceneObject
-from app.world import URDF_OBJECTS, _object_xml, furniture_parts
+from app.world import URDF_OBJECTS, furniture_parts, object_xml
 from perception.detector_config import ImageConfig, load_detector_config
-from perception.detector_data import DetectorScene, _room_parts
+from perception.detector_data import DetectorScene, room_parts
 from perception.vqg_layout import Plan
 from perception.vqg_scene import PALETTE, Node, SceneGraph
 
@@ -68,7 +68,7 @@ class VqgRenderer(DetectorScene):
         if node.kind in PRIMITIVES:
             spec = SceneObject(type=node.kind, x=0, y=0, scale=scale, candles=node.candles,  # type: ignore[arg-type]
                                lit=node.lit)
-            return load_urdf_text(c, node.id, _object_xml(spec, PALETTE[node.colour]), pos,
+            return load_urdf_text(c, node.id, object_xml(spec, PALETTE[node.colour]), pos,
                                   node.yaw)
         if node.kind not in URDF_OBJECTS:
             return build_body(c, node.id, _extra_parts(node), pos, node.yaw)
@@ -86,7 +86,7 @@ class VqgRenderer(DetectorScene):
 
     def render_plan(self, plan: Plan) -> tuple[np.ndarray, SceneGraph]:
         """Render ``plan`` and return the RGB frame and the graph of what it shows."""
-        built = [build_body(self.client, "room", _room_parts(plan.room))]
+        built = [build_body(self.client, "room", room_parts(plan.room))]
         people: list[Person] = []
         ids: dict[str, int] = {}
         try:

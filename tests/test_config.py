@@ -22,6 +22,7 @@ def test_defaults_hold_the_thesis_values():
     t = load_policy_config().train
     assert (t.gamma, t.learning_rate, t.buffer_size, t.target_sync_updates, t.batch_size) == (
         0.99, 1e-4, 50000, 10000, 32)
+    assert t.gamma_steps is None and t.insecure_penalty == 0.0     # the thesis's plain DQN
 
 
 def test_partial_override_merges_over_defaults(tmp_path):
@@ -57,6 +58,8 @@ def test_mood_weights_must_sum_to_one(tmp_path):
 def test_bad_policy_config_is_rejected(tmp_path):
     with pytest.raises(ConfigError, match=r"train.batch_size: Input should be greater"):
         load_policy_config(write(tmp_path, "train:\n  batch_size: 0\n"))
+    with pytest.raises(ConfigError, match=r"train.insecure_penalty: Input should be less"):
+        load_policy_config(write(tmp_path, "train:\n  insecure_penalty: 5\n"))
 
 
 def test_cli_exits_2_and_names_the_key(tmp_path, capsys):

@@ -70,6 +70,20 @@ def test_finds_greets_and_faces_the_person(detector, short_relief, robot_yaw):
     assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
 
 
+def test_furniture_in_the_way_is_driven_around(detector, short_relief):
+    # Tom stands in the corner beyond the armchair; straight towards him the robot would run
+    # into the coffee table and the armchair. It plans around them on the floor map.
+    person = Start(x=0.53, y=4.36, yaw=-70.0, pose="standing")
+    scenario = living_room(Placement(x=3.94, y=2.66, yaw=-1.6), person, short_relief)
+    status, events, (x, y, yaw), _ = find(scenario, detector)
+    assert status == Status.SUCCESS
+    detour = events.of_kind("detour")[0]
+    assert math.dist(detour["person"], (person.x, person.y)) < 0.8   # estimated from the box
+    bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
+    assert abs(math.degrees(bearing)) < 5.0
+    assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
+
+
 def test_empty_room_fails_after_the_timeout(detector):
     config = load_behaviour_config()
     config = config.model_copy(
@@ -90,6 +104,42 @@ def test_a_person_showing_their_back_is_not_greeted(detector):
     assert status == Status.FAILURE
     assert events.of_kind("no_face") and not events.of_kind("person_found")
     assert not events.of_kind("say")
+
+
+class FlickeringFalsePositive:
+    """A detector that sees a tall faceless "person" due west of the robot (where it would
+    be in the image), but only in 3 of every 13 frames that look there: a false positive on
+    furniture."""
+
+    def __init__(self) -> None:
+        self.robot = None
+        self.in_view = 0
+
+    def detect(self, frame):
+        bearing = math.remainder(math.pi - self.robot.pose()[2], math.tau)
+        tan_half_hfov = 4 / 3 * math.tan(math.radians(self.robot.cfg.camera.fov_deg) / 2)
+        cx = 160.0 * (1.0 - math.tan(bearing) / tan_half_hfov) if abs(bearing) < 1.2 else -1.0
+        if not 0.0 <= cx <= 320.0:
+            return []
+        self.in_view += 1
+        if self.in_view % 13 > 3:
+            return []
+        return [Detection("person", 0.6, (max(0.0, cx - 60.0), 2.0, min(320.0, cx + 60.0), 240.0))]
+
+
+def test_a_near_box_that_keeps_vanishing_is_ignored():
+    config = load_behaviour_config()
+    config = config.model_copy(
+        update={"find_people": config.find_people.model_copy(update={"timeout_s": 20.0})})
+    fake = FlickeringFalsePositive()
+    with Simulation(living_room(Placement(x=4.4, y=2.6, yaw=180.0), None)) as sim:
+        fake.robot = sim.robot
+        house = make_household(sim, config, fake)
+        status, _ = run_skill(sim, house, find_people.build(house), "find_people", 25.0)
+    assert status == Status.FAILURE
+    given_up = house.events.of_kind("no_face")
+    assert [e["vanished"] for e in given_up] == [config.find_people.vanish_strikes]
+    assert given_up[0]["t"] < 15.0
 
 
 def test_face_must_lie_in_the_upper_part_of_the_person_box():

@@ -90,6 +90,24 @@ def test_start_inside_an_inflated_obstacle_snaps_to_a_free_cell():
     assert all(planner.grid.visible(a, b) for a, b in pairwise(path))
 
 
+def test_clear_ahead_skips_the_blocked_cells_around_the_start_only():
+    box = Footprint("box", "furniture", 2.0, 1.5, 0.0, 0.3, 0.2)
+    grid = OccupancyGrid.build([(0.0, 0.0, 4.0, 3.0)], [box], RES, RADIUS)
+    assert not grid.is_free(2.0, 1.85)                   # against the box's north side
+    assert grid.clear_ahead((2.0, 1.85), (2.0, 2.5))     # leaving it: clear
+    assert not grid.visible((2.0, 1.85), (2.0, 2.5))
+    assert not grid.clear_ahead((2.0, 2.5), (2.0, 0.5))  # across the box: not clear
+    assert not grid.clear_ahead((2.0, 1.85), (2.0, 0.5))
+
+
+def test_nearest_goal_goes_by_path_length_not_straight_line():
+    wall = Footprint("wall", "furniture", 2.0, 1.2, 0.0, 0.05, 1.2)   # x = 2, from y 0 to 2.4
+    planner = Planner(OccupancyGrid.build([(0.0, 0.0, 4.0, 3.0)], [wall], RES, RADIUS))
+    behind, around = (2.6, 0.6), (1.2, 2.7)      # 1.3 m away through the wall; 2.2 m in the open
+    assert planner.nearest_goal((1.4, 0.6), [behind, around]) == around
+    assert planner.nearest_goal((1.4, 0.6), [(2.0, 1.0)]) is None          # inside the wall
+
+
 def test_path_follower_turns_on_the_spot_then_reaches_the_goal():
     t = [0.0]
     follower = PathFollower(CFG.pid, 0.55, 2.0, 0.15, lambda: t[0])

@@ -112,6 +112,20 @@ def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
     assert rows[0].startswith("transitions,") and len(rows) > 1
 
 
+def test_insecure_penalty_lands_on_the_terminal_transitions(h, cfg, tmp_path):
+    tiny = cfg.model_copy(update={
+        "env": short_env(cfg, 500),
+        "train": cfg.train.model_copy(update={
+            "num_envs": 8, "total_transitions": 600, "learning_starts": 100,
+            "checkpoint_every": 50, "eval_episodes": 2, "insecure_penalty": -50.0})})
+    train(h.personality, tiny, tmp_path, progress=False)
+    memory = torch.load(tmp_path / "checkpoint.pt", weights_only=False)["memory"]
+    n = memory["size"]
+    terminal, reward = memory["terminal"][:n].astype(bool), memory["reward"][:n]
+    assert terminal.any() and (~terminal).any()      # random actions reach insecurity often
+    assert (reward[terminal] <= -48.0).all() and (reward[~terminal] > -5.0).all()
+
+
 def test_discount_per_decision_or_per_time():
     durations = np.array([1000, 100, 30, 12])
     assert torch.allclose(action_discounts(0.99, durations, None), torch.full((4,), 0.99))

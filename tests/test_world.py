@@ -198,3 +198,24 @@ def test_person_api(client):
         kid.set_pose("dancing")  # type: ignore[arg-type]
     kid.remove()
     assert p.getNumBodies(physicsClientId=client) == 0
+
+
+def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
+    from app.household import Simulation
+    from app.scenario import Event, Start, WalkTo
+
+    base = load_scenario(WORLDS / "living_room.yaml")
+    tom = next(q for q in base.people if q.name == "Tom")
+    tom = tom.model_copy(update={
+        "start": Start(x=4.3, y=1.2, yaw=90.0, pose="standing"),
+        "events": (Event(at=1.0, walk_to=WalkTo(x=4.3, y=4.0)),)})
+    scenario = base.model_copy(update={"people": (tom,)})   # the robot stands at (4.3, 2.6)
+    worst = 0.0                                                # rad from the joint targets
+    with Simulation(scenario) as sim:
+        while sim.t < 6.0:
+            sim.step()
+            measured = np.array(list(sim.robot.joint_positions().values()))
+            targets = np.array(list(sim.robot.joint_targets().values()))
+            worst = max(worst, float(np.abs(measured - targets).max()))
+        assert sim.world.people_positions()["Tom"].y > 3.5   # Tom walked through the robot
+    assert worst < 0.05

@@ -187,7 +187,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     try:
         while transitions < tc.total_transitions:
             d = env.advance()
-            memory.add(d.obs, d.action, d.reward, d.next_obs, d.terminal)
+            memory.add(d.obs, d.action, d.reward + tc.insecure_penalty * d.terminal,
+                       d.next_obs, d.terminal)
             transitions += len(d.idx)
             bar.update(len(d.idx))
             env.act(d.idx, choose(d.decide_obs))

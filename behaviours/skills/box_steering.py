@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import py_trees
 from py_trees.common import Status
 from simple_pid import PID
@@ -51,7 +52,8 @@ class BoxSteering(HouseholdBehaviour):
         base = house.robot.cfg.base
         self.heading = make_pid(self.cfg.heading_pid, base.max_angular_speed)
         cam = house.robot.cfg.camera
-        self.tan_half_hfov = 4 / 3 * math.tan(math.radians(cam.fov_deg) / 2)
+        self.tan_half_vfov = math.tan(math.radians(cam.fov_deg) / 2)
+        self.tan_half_hfov = 4 / 3 * self.tan_half_vfov
         self.period = 1.0 / rate
         self._frame_t = -math.inf
         self._command_t = -math.inf
@@ -91,6 +93,24 @@ class BoxSteering(HouseholdBehaviour):
         """Direction of the box centre from the optical axis (rad, counter-clockwise)."""
         return -math.atan(self.offset(box) * self.tan_half_hfov)
 
+    def locate(self, box: Detection) -> tuple[float, float] | None:
+        """Floor position of the person in ``box``: along the ray through the top edge's
+        centre, where it reaches the head of a person ``person_height_m`` tall (the camera
+        pose is the robot's own kinematics). None when the top is cut off by the frame (the
+        person is closer than about 0.8 m) or the ray does not rise to that height."""
+        rows, cols = self.bb.frame.shape[:2]
+        if box.box[1] <= 1:
+            return None
+        pos, axis, up = self.house.robot.camera_pose()
+        focal = rows / 2 / self.tan_half_vfov
+        ray = (axis + (box.centre[0] - cols / 2) / focal * np.cross(axis, up)
+               + (rows / 2 - box.box[1]) / focal * up)
+        rise = self.cfg.person_height_m - pos[2]
+        if ray[2] <= 0 or rise <= 0:
+            return None
+        scale = rise / ray[2]
+        return float(pos[0] + scale * ray[0]), float(pos[1] + scale * ray[1])
+
     def follow(self, detections: list[Detection],
                ignored: tuple[float, ...] = ()) -> Detection | None:
         """The person box to follow, or None; updates the track (the followed person's
@@ -127,6 +147,11 @@ class BoxSteering(HouseholdBehaviour):
             self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1
             self._track = direction(best)
         return best
+
+    def look_towards(self, direction: float) -> None:
+        """Expect the followed person in world ``direction`` (rad): a box found there next
+        continues the track and is acted on at once."""
+        self._track, self.hits = direction, self.cfg.confirm_frames - 1
 
     def forget(self) -> None:
         """Drop the track: the next box found starts a new one."""

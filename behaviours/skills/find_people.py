@@ -25,6 +25,7 @@ from py_trees.common import ParallelPolicy, Status
 from behaviours.context import Household
 from behaviours.skill import Relieve, Say
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
+from behaviours.skills.detour import Detour
 from perception.detector import Detection
 
 
@@ -32,10 +33,12 @@ class ApproachPerson(BoxSteering):
     """Search (turn in place), centre and approach a person until their box is
     ``target_height_px`` tall. SUCCESS there once their face has been seen in
     ``face_frames`` frames since the robot began to follow them (their front is turned to
-    it). Blocked on the way (the base reports it), the robot backs up and sidesteps. If the
+    it). Furniture on the map between them: the robot takes a planned detour (:class:`Detour`);
+    blocked by anything else (the base reports it), it backs up and sidesteps. If the
     face count is short ``face_wait_s`` after the robot came near, it circles the person
     to see their front; a person whose face still has not shown (their back is turned, or
-    it is no person) is ignored for ``ignore_s``. FAILURE after ``timeout_s``."""
+    it is no person), or a near box without a face that keeps vanishing, is ignored for
+    ``ignore_s``. FAILURE after ``timeout_s``."""
 
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
         super().__init__(name, house, house.config.perception.tracking_rate)
@@ -44,6 +47,9 @@ class ApproachPerson(BoxSteering):
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
         self._ignored: dict[float, float] = {}   # world heading (rad) -> ignored until (s)
+        self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
+        self.detour = Detour(house)
+        self._detours = 0                        # detours taken for the followed person
 
     def initialise(self) -> None:
         super().initialise()
@@ -52,7 +58,9 @@ class ApproachPerson(BoxSteering):
         self._seen = self._near_since = -math.inf
         self._faces = 0
         self._side, self._escape_start = 1.0, -math.inf
-        self._ignored = {}
+        self._ignored, self._vanished = {}, {}
+        self.detour.cancel()
+        self._detours = 0
 
     def update(self) -> Status:
         if self.now - self._start >= self.cfg.timeout_s:
@@ -63,6 +71,8 @@ class ApproachPerson(BoxSteering):
             return Status.RUNNING
         detections, dt = fresh
         self._ignored = {h: t for h, t in self._ignored.items() if t > self.now}
+        if self.detour.active:
+            return self._drive_detour()
         person = self.follow(detections, tuple(self._ignored))
         if person is None or self.hits < self.cfg.confirm_frames:
             self._search()
@@ -79,6 +89,9 @@ class ApproachPerson(BoxSteering):
             self.command(0.0, 0.0, 0.0)
             return
         if math.isfinite(self._seen):
+            if math.isfinite(self._near_since) and self._faces < self.cfg.face_frames:
+                self._count_vanished()
+            self._detours = 0
             self.forget()
             self.heading.reset()
             self.approach.reset()
@@ -111,9 +124,57 @@ class ApproachPerson(BoxSteering):
             self.command(vx, self._orbit(waited) * cfg.orbit_speed, wz)
         elif arrived:
             self.command(0.0, 0.0, 0.0)
+        elif not (near or self._detours >= cfg.max_detours) and self._start_detour(person):
+            return self._drive_detour()
         else:
             self.command(*self._avoid(vx, wz))
         return Status.RUNNING
+
+    def _start_detour(self, person: Detection) -> bool:
+        """Plan a detour when the map has furniture between the robot and the person."""
+        spot = self.locate(person)
+        x, y, _ = self.house.robot.pose()
+        if spot is None or not self.detour.obstructed((x, y), spot):
+            return False
+        path = self.detour.start((x, y), spot)
+        if path is None:
+            return False
+        self._detours += 1
+        self.emit("detour", person=[round(v, 2) for v in spot],
+                  waypoints=[[round(a, 2), round(b, 2)] for a, b in path])
+        return True
+
+    def _drive_detour(self) -> Status:
+        """Follow the detour. Once it is over (or the base is blocked on it), the robot
+        faces where the person was estimated, and the visual approach goes on from there."""
+        robot = self.house.robot
+        command = None if robot.blocked else self.detour.command(robot.pose())
+        if command is not None:
+            self.command(*command)
+            return Status.RUNNING
+        self.detour.cancel()
+        x, y, _ = robot.pose()
+        tx, ty = self.detour.target
+        self.look_towards(math.atan2(ty - y, tx - x))
+        self._seen = self.now
+        self.command(0.0, 0.0, 0.0)
+        return Status.RUNNING
+
+    def _count_vanished(self) -> None:
+        """The near box of the followed track vanished before its face was confirmed; after
+        ``vanish_strikes`` times in one direction, ignore that direction (a person close
+        by stays in view; a false positive on furniture flickers)."""
+        width = math.radians(self.cfg.ignore_width_deg)
+        key = next((h for h in self._vanished
+                    if abs(math.remainder(h - self._track, math.tau)) <= width), self._track)
+        count = self._vanished.pop(key, 0) + 1
+        if count < self.cfg.vanish_strikes:
+            self._vanished[self._track] = count
+            return
+        self._ignored[self._track] = self.now + self.cfg.ignore_s
+        self.emit("no_face", bearing_deg=round(math.degrees(math.remainder(
+            self._track - self.house.robot.pose()[2], math.tau)), 2),
+            face_frames=self._faces, vanished=count)
 
     def _orbit(self, waited: float) -> float:
         """Sideways direction while looking for the person's front: left for ``orbit_s``,

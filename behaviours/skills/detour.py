@@ -1,0 +1,98 @@
+"""Detours of the find-people skill: with furniture between the robot and the person it
+follows, drive around it on the household's floor map (docs/find_people.md).
+
+The person's floor position is estimated from their box (:meth:`BoxSteering.locate`). The
+robot plans on the static occupancy grid of walls and furniture (the map knows no people) to
+a free spot ``detour_distance_m`` from that estimate with a line of sight to it, the one
+cheapest to reach (path length, plus the way around the person from the side the robot saw
+them from), follows the path and turns to the estimate; there the visual approach takes over
+again.
+"""
+
+from __future__ import annotations
+
+import math
+
+from app.navigation import Navigator, Point, Velocity
+from app.robot import wrap_angle
+from app.world import Pose2D
+from behaviours.context import Household
+from behaviours.skills.charge import follower
+
+FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
+LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate
+SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to furniture (not the robot's
+                                       # radius: the camera looks over a table's corner)
+
+
+class Detour:
+    """Plans and drives one detour at a time to a person's estimated position."""
+
+    def __init__(self, house: Household) -> None:
+        self.cfg = house.config.find_people
+        charge = house.config.charge
+        self.planner = Navigator(house.world, charge.grid_resolution, charge.robot_radius).planner
+        self.sight = Navigator(house.world, charge.grid_resolution, SIGHT_CLEARANCE_M).planner.grid
+        self.follower = follower(house)
+        self.target: Point | None = None    # the person's estimated position
+        self.active = False
+        self._turning = False
+
+    def obstructed(self, robot: Point, person: Point) -> bool:
+        """Whether the map has an obstacle on the straight way from ``robot`` to the spot
+        ``detour_distance_m`` short of ``person``."""
+        gap = math.dist(robot, person) - self.cfg.detour_distance_m
+        if gap <= 0.0:
+            return False
+        f = gap / math.dist(robot, person)
+        stop = (robot[0] + f * (person[0] - robot[0]), robot[1] + f * (person[1] - robot[1]))
+        return not self.planner.grid.clear_ahead(robot, stop)
+
+    def spots(self, person: Point) -> list[Point]:
+        """Free spots ``detour_distance_m`` around ``person`` that have a line of sight to
+        them on the map."""
+        grid, r, n = self.planner.grid, self.cfg.detour_distance_m, self.cfg.detour_candidates
+        out = []
+        for k in range(n):
+            c, s = math.cos(math.tau * k / n), math.sin(math.tau * k / n)
+            spot = (person[0] + r * c, person[1] + r * s)
+            near = (person[0] + LOOK_SHORT_M * c, person[1] + LOOK_SHORT_M * s)
+            if grid.is_free(*spot) and self.sight.visible(spot, near):
+                out.append(spot)
+        return out
+
+    def start(self, robot: Point, person: Point) -> list[Point] | None:
+        """Plan a detour towards ``person``; the path, or None when there is none. A spot
+        costs its path length plus ``detour_arc_weight`` times the arc (m) around the person
+        from the robot's side: the robot saw them from there, so their front is likelier
+        that way."""
+        spots = self.spots(person)
+        side = math.atan2(robot[1] - person[1], robot[0] - person[0])
+        arcs = [self.cfg.detour_distance_m * abs(wrap_angle(
+            math.atan2(y - person[1], x - person[0]) - side)) for x, y in spots]
+        goal = self.planner.nearest_goal(robot, spots,
+                                         [self.cfg.detour_arc_weight * a for a in arcs])
+        path = None if goal is None else self.planner.plan(robot, goal)
+        if path is not None:
+            self.follower.start(path)
+            self.target, self.active, self._turning = person, True, False
+        return path
+
+    def cancel(self) -> None:
+        """Stop following the detour."""
+        self.active = False
+
+    def command(self, pose: tuple[float, float, float]) -> Velocity | None:
+        """The base command along the detour, then turning to the estimate; None once the
+        robot faces it (the detour is over)."""
+        x, y, yaw = pose
+        if not self._turning:
+            if not self.follower.arrived(x, y):
+                return self.follower.command(pose)
+            self._turning = True
+            self.follower.reset()
+        heading = math.atan2(self.target[1] - y, self.target[0] - x)
+        if abs(wrap_angle(heading - yaw)) <= FACING_TOLERANCE:
+            self.active = False
+            return None
+        return self.follower.approach(pose, Pose2D(x, y, heading))
