@@ -17,7 +17,7 @@ from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour
 from perception.detector import Detection
 
-HOLD_PERIODS = 1.5  # without a fresh frame for this many camera periods the base stops
+HOLD_PERIODS = 1.5  # by default, without a fresh frame for this many camera periods the base stops
 
 
 def make_pid(gains: PidGains, limit: float) -> PID:
@@ -42,9 +42,11 @@ def has_face(person: Detection, detections: list[Detection], region: float,
 class BoxSteering(HouseholdBehaviour):
     """Base of the leaves that steer by a person box: fresh-frame bookkeeping, the choice
     of the person to follow and the heading PID (turn rate from the box offset). While it
-    runs, the camera takes ``rate`` frames a second."""
+    runs, the camera takes ``rate`` frames a second; a command lasts ``hold_s`` (default
+    1.5 frame periods) unless a fresh frame replaces it."""
 
-    def __init__(self, name: str, house: Household, rate: float) -> None:
+    def __init__(self, name: str, house: Household, rate: float,
+                 hold_s: float | None = None) -> None:
         super().__init__(name, house, reads=("frame", "frame_t", "detections"),
                          writes=("tracking",))
         self.rate = rate
@@ -55,6 +57,7 @@ class BoxSteering(HouseholdBehaviour):
         self.tan_half_vfov = math.tan(math.radians(cam.fov_deg) / 2)
         self.tan_half_hfov = 4 / 3 * self.tan_half_vfov
         self.period = 1.0 / rate
+        self.hold_s = HOLD_PERIODS * self.period if hold_s is None else hold_s
         self._frame_t = -math.inf
         self._command_t = -math.inf
         self._track: float | None = None   # world direction of the followed person (rad)
@@ -72,7 +75,7 @@ class BoxSteering(HouseholdBehaviour):
         or None (then the base is stopped once the last command is too old)."""
         t = self.bb.frame_t
         if self.bb.frame is None or t <= self._frame_t:
-            if self.now - self._command_t > HOLD_PERIODS * self.period:
+            if self.now - self._command_t > self.hold_s:
                 self.house.robot.stop()
             return None
         dt = t - self._frame_t if math.isfinite(self._frame_t) else self.period

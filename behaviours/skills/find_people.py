@@ -214,10 +214,14 @@ class ApproachPerson(BoxSteering):
 
 class KeepCentred(BoxSteering):
     """Turn so that the followed person stays centred (heading PID only); stand still when
-    nobody is seen. RUNNING until stopped."""
+    nobody is seen. RUNNING until stopped. Frames come less often than while approaching,
+    so each turn command lasts one approach frame period only: the heading PID then corrects
+    the same share of the error per frame as it does there, instead of overshooting."""
 
     def __init__(self, house: Household, name: str = "Keep them centred") -> None:
-        super().__init__(name, house, house.config.perception.centring_rate)
+        perception = house.config.perception
+        super().__init__(name, house, perception.centring_rate,
+                         hold_s=1.0 / perception.tracking_rate)
 
     def update(self) -> Status:
         fresh = self.fresh_detections()
