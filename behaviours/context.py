@@ -15,6 +15,7 @@ import numpy as np
 
 from app.events import EventLog
 from app.homeostasis import Homeostasis
+from app.navigation import PathFollower
 from app.robot import Robot
 from app.speech import Speaker
 from app.world import World
@@ -65,6 +66,13 @@ class Household:
     def now(self) -> float:
         """Simulated seconds since the run started."""
         return self.clock.t
+
+    def path_follower(self) -> PathFollower:
+        """A path follower with the ``pid`` gains, the robot's speed limits, the charge
+        skill's waypoint tolerance and the simulated clock (docking and detours use it)."""
+        base = self.robot.cfg.base
+        return PathFollower(self.config.pid, base.max_linear_speed, base.max_angular_speed,
+                            self.config.charge.waypoint_tolerance, self.clock)
 
 
 # Blackboard keys (all at the root namespace) and what they hold.

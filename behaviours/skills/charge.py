@@ -10,20 +10,13 @@ import math
 import py_trees
 from py_trees.common import Status
 
-from app.navigation import Navigator, PathFollower, Point
+from app.navigation import Navigator, Point
 from app.robot import wrap_angle
 from app.world import Pose2D
 from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour, Relieve, Say
 
 ESCAPED_M = 0.02   # m: this close to the free cell where the path begins, the slide ends
-
-
-def follower(house: Household) -> PathFollower:
-    """A path follower with the ``pid`` gains, the robot's speed limits and the simulated clock."""
-    base = house.robot.cfg.base
-    return PathFollower(house.config.pid, base.max_linear_speed, base.max_angular_speed,
-                        house.config.charge.waypoint_tolerance, house.clock)
 
 
 def predock_pose(dock: Pose2D, distance: float) -> Pose2D:
@@ -50,7 +43,7 @@ class FollowPath(StopBase):
         super().__init__(name, house)
         self.navigator = navigator
         self.goal = goal
-        self.follower = follower(house)
+        self.follower = house.path_follower()
         self._stuck_since: float | None = None
         self._has_path = False
         self._escape: Point | None = None
@@ -102,7 +95,7 @@ class DockIn(StopBase):
     def __init__(self, name: str, house: Household, dock: Pose2D) -> None:
         super().__init__(name, house)
         self.dock = dock
-        self.follower = follower(house)
+        self.follower = house.path_follower()
         self._aligned = False
 
     def initialise(self) -> None:

@@ -17,7 +17,6 @@ from app.navigation import Navigator, Point, Velocity
 from app.robot import wrap_angle
 from app.world import Pose2D
 from behaviours.context import Household
-from behaviours.skills.charge import follower
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
 LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate
@@ -33,7 +32,7 @@ class Detour:
         charge = house.config.charge
         self.planner = Navigator(house.world, charge.grid_resolution, charge.robot_radius).planner
         self.sight = Navigator(house.world, charge.grid_resolution, SIGHT_CLEARANCE_M).planner.grid
-        self.follower = follower(house)
+        self.follower = house.path_follower()
         self.target: Point | None = None    # the person's estimated position
         self.active = False
         self._turning = False
