@@ -54,6 +54,9 @@ class ModelConfig(StrictModel):
     disc_filters: int = Field(ge=1)
     disc_kernels: list[int] = Field(min_length=1)
     disc_dropout: float = Field(ge=0, lt=1)
+    mask_ratio: float | None = Field(default=None, gt=1)
+    mask_min_count: int = Field(default=10, ge=1)
+    attention: bool = False
 
 
 class ClassifierConfig(StrictModel):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import torch
 
+from dialogue.style_copy import Memory
 from dialogue.style_data import BOS_ID, EOS_ID, PAD_ID, Batch, make_batch
 from dialogue.style_model import StyleTransferModel
 
@@ -19,12 +20,13 @@ NEG_INF = float("-inf")
 
 
 def _start(model: StyleTransferModel, batch: Batch, target: torch.Tensor):
-    z = model.encode(batch.inputs, batch.lengths, batch.labels)
-    return model.generator.initial(z, model.style(target)), z
+    z, memory = model.encode(batch.inputs, batch.lengths, batch.labels)
+    return model.generator.initial(z, model.style(target)), z, memory
 
 
-def _word_logp(model: StyleTransferModel, h: torch.Tensor) -> torch.Tensor:
-    logits = model.generator.out(h, model.embedding.weight)
+def _word_logp(model: StyleTransferModel, h: torch.Tensor, memory: Memory | None
+               ) -> torch.Tensor:
+    logits = model.generator.logits(h, model.embedding.weight, memory)
     logits[:, PAD_ID] = NEG_INF
     logits[:, BOS_ID] = NEG_INF
     return torch.log_softmax(logits, -1)
@@ -34,14 +36,14 @@ def _word_logp(model: StyleTransferModel, h: torch.Tensor) -> torch.Tensor:
 def greedy(model: StyleTransferModel, batch: Batch, target: torch.Tensor,
            max_extra_words: int) -> list[list[int]]:
     """Greedy transfer of every sentence of ``batch`` to the styles ``target`` ``(B,)``."""
-    state, _ = _start(model, batch, target)
+    state, _, memory = _start(model, batch, target)
     limit = batch.lengths - 1 + max_extra_words
     x = model.embedding.weight[BOS_ID].expand(len(target), -1)
     words: list[torch.Tensor] = []
     done = torch.zeros(len(target), dtype=torch.bool)
     for t in range(int(limit.max()) + 1):
         state = model.generator.step(x, state)
-        logp = _word_logp(model, state[0])
+        logp = _word_logp(model, state[0], memory)
         w = logp.argmax(1)
         w = torch.where(limit <= t, torch.full_like(w, EOS_ID), w)
         words.append(torch.where(done, torch.full_like(w, PAD_ID), w))
@@ -59,8 +61,10 @@ def beam_search(model: StyleTransferModel, batch: Batch, target: torch.Tensor,
                 ) -> list[list[int]]:
     """Beam-search transfer with optional reranking by the discriminator (module docstring)."""
     b, k = len(target), beam_size
-    (h, c), z = _start(model, batch, target)
+    (h, c), z, memory = _start(model, batch, target)
     h, c = h.repeat_interleave(k, 0), c.repeat_interleave(k, 0)
+    rows = torch.arange(b).repeat_interleave(k)  # beams of one sentence share its memory
+    beam_memory = memory.select(rows) if memory is not None else None
     limit = (batch.lengths - 1 + max_extra_words).repeat_interleave(k)
     scores = torch.full((b, k), NEG_INF)
     scores[:, 0] = 0.0
@@ -69,7 +73,7 @@ def beam_search(model: StyleTransferModel, batch: Batch, target: torch.Tensor,
     x = model.embedding.weight[BOS_ID].expand(b * k, -1)
     for t in range(int(limit.max()) + 1):
         h, c = model.generator.step(x, (h, c))
-        logp = _word_logp(model, h)
+        logp = _word_logp(model, h, beam_memory)
         over = limit <= t  # out of words: only <eos> is allowed
         logp[over] = torch.where(torch.arange(logp.shape[1]) == EOS_ID, 0.0, NEG_INF)
         cand = (scores.view(-1, 1) + logp).view(b, -1)
@@ -86,12 +90,12 @@ def beam_search(model: StyleTransferModel, batch: Batch, target: torch.Tensor,
         if all(len(f) >= k for f in finished) or bool((scores == NEG_INF).all()):
             break
         x = model.embedding(word.view(-1))
-    return _choose(model, z, target, finished, disc_weight)
+    return _choose(model, z, memory, target, finished, disc_weight)
 
 
-def _choose(model: StyleTransferModel, z: torch.Tensor, target: torch.Tensor,
-            finished: list[list[tuple[float, list[int]]]], disc_weight: float
-            ) -> list[list[int]]:
+def _choose(model: StyleTransferModel, z: torch.Tensor, memory: Memory | None,
+            target: torch.Tensor, finished: list[list[tuple[float, list[int]]]],
+            disc_weight: float) -> list[list[int]]:
     flat = [(i, s / (len(w) + 1), w) for i, f in enumerate(finished) for s, w in f]
     if not flat:
         return [[] for _ in finished]
@@ -100,8 +104,9 @@ def _choose(model: StyleTransferModel, z: torch.Tensor, target: torch.Tensor,
         rows = torch.tensor([i for i, _, _ in flat])
         cand = make_batch([w for _, _, w in flat], target[rows].tolist())
         y = model.style(cand.labels)
-        hidden, _ = model.generator.teacher_force(model.embedding(cand.inputs), z[rows], y,
-                                                  model.embedding.weight)
+        hidden, _ = model.generator.teacher_force(
+            model.embedding(cand.inputs), z[rows], y, model.embedding.weight,
+            memory.select(rows) if memory is not None else None)
         logd = torch.log_softmax(model.discriminator(hidden, cand.mask), 1)
         bonus = disc_weight * logd[torch.arange(len(flat)), cand.labels]
     best: list[tuple[float, list[int]]] = [(NEG_INF, []) for _ in finished]

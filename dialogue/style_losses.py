@@ -25,7 +25,8 @@ def pretrain_losses(model: StyleTransferModel, batch: Batch) -> dict[str, torch.
     y = model.style(batch.labels)
     emb = model.embedding(batch.inputs)
     table = model.embedding.weight
-    lm_enc = masked_nll(model.encoder.lm_logits(emb, y, table), batch.targets).mean()
+    enc_emb = model.embedding(model.mask_ids(batch.inputs))
+    lm_enc = masked_nll(model.encoder.lm_logits(enc_emb, y, table), batch.targets).mean()
     z0 = y.new_zeros(len(y), model.cfg.content_dim)
     _, logits = model.generator.teacher_force(emb, z0, y, table)
     lm_gen = masked_nll(logits, batch.targets).mean()
@@ -53,8 +54,10 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
     flipped = 1 - labels
     y_src, y_tgt = model.style(labels), model.style(flipped)
     emb = model.embedding(batch.inputs)
-    z = model.encoder(emb, batch.lengths, y_src)
-    h_real, logits = model.generator.teacher_force(emb, z, y_src, model.embedding.weight)
+    z, memory = model.content(model.embedding(model.mask_ids(batch.inputs)), batch.lengths,
+                              y_src)
+    h_real, logits = model.generator.teacher_force(emb, z, y_src, model.embedding.weight,
+                                                   memory)
     losses = {"style": model.style.loss(labels),
               "rec": masked_nll(logits, batch.targets).mean()}  # eq. 3.11
     length = batch.mask.sum() / len(labels) if weights.per_word else 1.0
@@ -62,13 +65,15 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
         return weights.style * losses["style"] + weights.rec * losses["rec"] / length, losses, None
     steps = batch.inputs.shape[1]
     bos = model.embedding.weight[BOS_ID]
-    h_fake, words = model.generator.free_run(model.embedding, bos, z, y_tgt, steps, tau)
+    h_fake, words = model.generator.free_run(model.embedding, bos, z, y_tgt, steps, tau,
+                                             memory)
     # eq. 3.13, generator side: the transferred sentence should pass as the target style
     losses["adv"] = F.cross_entropy(model.discriminator(h_fake, batch.mask), flipped)
     # eq. 3.14: encode the transferred sentence in its new style, reconstruct the original
-    z_cycle = model.encoder(soft_inputs(model, words), batch.lengths, y_tgt)
+    z_cycle, memory_cycle = model.content(soft_inputs(model, model.mask_soft(words)),
+                                          batch.lengths, y_tgt)
     _, logits_cycle = model.generator.teacher_force(emb, z_cycle, y_src,
-                                                       model.embedding.weight)
+                                                       model.embedding.weight, memory_cycle)
     losses["cycle"] = masked_nll(logits_cycle, batch.targets).mean()
     total = (weights.style * losses["style"] + weights.rec * losses["rec"] / length
              + weights.adv * losses["adv"] + weights.cycle * losses["cycle"] / length)

@@ -19,7 +19,8 @@ import torch.nn.functional as F  # noqa: N812
 from torch import nn
 
 from dialogue.style_config import ModelConfig
-from dialogue.style_data import PAD_ID
+from dialogue.style_copy import CopyAttention, Memory
+from dialogue.style_data import PAD_ID, UNK_ID
 
 N_STYLES = 2
 FAKE = N_STYLES  # the discriminator's extra class
@@ -83,9 +84,18 @@ class TiedOutput(nn.Module):
         self.proj = nn.Linear(hidden, embed_dim)
         self.bias = nn.Parameter(torch.zeros(vocab))
 
-    def forward(self, h: torch.Tensor, table: torch.Tensor) -> torch.Tensor:
-        """Logits ``(..., V)`` of states ``(..., hidden)`` against the table ``(V, E)``."""
-        return F.linear(self.proj(h), table, self.bias)
+    def forward(self, h: torch.Tensor, table: torch.Tensor,
+                extra: torch.Tensor | None = None) -> torch.Tensor:
+        """Logits ``(..., V)`` of states ``(..., hidden)`` against the table ``(V, E)``;
+        ``extra`` (embedding space, e.g. a copied word) is added before scoring."""
+        e = self.proj(h)
+        return F.linear(e if extra is None else e + extra, table, self.bias)
+
+
+def last_state(states: torch.Tensor, lengths: torch.Tensor) -> torch.Tensor:
+    """The states ``(B, T, C)`` at the last real positions ``lengths - 1`` -> ``(B, C)``."""
+    last = (lengths - 1).clamp(min=0).to(states.device)
+    return states[torch.arange(len(states)), last]
 
 
 class SentenceEncoder(nn.Module):
@@ -108,9 +118,7 @@ class SentenceEncoder(nn.Module):
     def forward(self, emb: torch.Tensor, lengths: torch.Tensor, y: torch.Tensor
                 ) -> torch.Tensor:
         """z: the second layer's state after the last real position (``lengths - 1``)."""
-        out = self.states(emb, y)
-        last = (lengths - 1).clamp(min=0).to(out.device)
-        return out[torch.arange(len(out)), last]
+        return last_state(self.states(emb, y), lengths)
 
     def lm_logits(self, emb: torch.Tensor, y: torch.Tensor, table: torch.Tensor
                   ) -> torch.Tensor:
@@ -119,13 +127,22 @@ class SentenceEncoder(nn.Module):
 
 
 class Generator(nn.Module):
-    """G: a one-layer LSTM whose initial hidden state is ``[z, y]``."""
+    """G: a one-layer LSTM whose initial hidden state is ``[z, y]``; with ``attention`` its
+    output also attends over the source words (:mod:`dialogue.style_copy`)."""
 
-    def __init__(self, embed_dim: int, style_dim: int, content_dim: int, vocab: int) -> None:
+    def __init__(self, embed_dim: int, style_dim: int, content_dim: int, vocab: int,
+                 attention: bool = False) -> None:
         super().__init__()
         self.hidden = style_dim + content_dim
         self.lstm = nn.LSTM(embed_dim, self.hidden, batch_first=True)
         self.out = TiedOutput(self.hidden, embed_dim, vocab)
+        self.copy = CopyAttention(self.hidden, content_dim, embed_dim) if attention else None
+
+    def logits(self, h: torch.Tensor, table: torch.Tensor, memory: Memory | None = None
+               ) -> torch.Tensor:
+        """Next-word logits of states ``(B, [T,] H)``, copying from ``memory`` if given."""
+        extra = self.copy(h, memory) if self.copy is not None and memory is not None else None
+        return self.out(h, table, extra)
 
     @staticmethod
     def initial(z: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
@@ -134,11 +151,12 @@ class Generator(nn.Module):
         return h0, torch.zeros_like(h0)
 
     def teacher_force(self, emb: torch.Tensor, z: torch.Tensor, y: torch.Tensor,
-                      table: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+                      table: torch.Tensor, memory: Memory | None = None
+                      ) -> tuple[torch.Tensor, torch.Tensor]:
         """Hidden states ``(B, T, H)`` and logits ``(B, T, V)`` given the true inputs."""
         h0, c0 = self.initial(z, y)
         hidden, _ = self.lstm(emb, (h0[None], c0[None]))
-        return hidden, self.out(hidden, table)
+        return hidden, self.logits(hidden, table, memory)
 
     def step(self, x: torch.Tensor, state: tuple[torch.Tensor, torch.Tensor]
              ) -> tuple[torch.Tensor, torch.Tensor]:
@@ -152,7 +170,7 @@ class Generator(nn.Module):
         return torch.sigmoid(o) * torch.tanh(c), c
 
     def free_run(self, embedding: nn.Embedding, start: torch.Tensor, z: torch.Tensor,
-                 y: torch.Tensor, steps: int, tau: float
+                 y: torch.Tensor, steps: int, tau: float, memory: Memory | None = None
                  ) -> tuple[torch.Tensor, torch.Tensor]:
         """Eq. 3.12: unroll ``steps`` steps feeding back ``softmax((logits + g) / tau)``.
 
@@ -164,7 +182,7 @@ class Generator(nn.Module):
         hidden, words = [], []
         for _ in range(steps):
             state = self.step(x, state)
-            w = gumbel_softmax(self.out(state[0], embedding.weight), tau)
+            w = gumbel_softmax(self.logits(state[0], embedding.weight, memory), tau)
             x = w @ embedding.weight
             hidden.append(state[0])
             words.append(w)
@@ -205,15 +223,45 @@ class StyleTransferModel(nn.Module):
         self.style = StyleCode(cfg.style_dim, cfg.style_hidden, cfg.style_autoencoder)
         self.embedding = nn.Embedding(vocab, cfg.embed_dim, padding_idx=PAD_ID)
         self.encoder = SentenceEncoder(cfg.embed_dim, cfg.style_dim, cfg.content_dim, vocab)
-        self.generator = Generator(cfg.embed_dim, cfg.style_dim, cfg.content_dim, vocab)
+        self.generator = Generator(cfg.embed_dim, cfg.style_dim, cfg.content_dim, vocab,
+                                   cfg.attention)
         self.discriminator = TextCNN(self.generator.hidden, cfg.disc_filters,
                                      cfg.disc_kernels, N_STYLES + 1, cfg.disc_dropout)
+        # style markers hidden from E_z (model.mask_ratio); filled by the training
+        self.register_buffer("masked", torch.zeros(vocab, dtype=torch.bool))
+
+    def set_masked(self, ids: list[int]) -> None:
+        """Hide these word ids from E_z: its input shows ``<unk>`` in their place."""
+        self.masked.zero_()
+        self.masked[torch.as_tensor(ids, dtype=torch.long)] = True
+
+    def mask_ids(self, inputs: torch.Tensor) -> torch.Tensor:
+        """E_z's view of id inputs: masked words replaced by ``<unk>``."""
+        return torch.where(self.masked[inputs], torch.full_like(inputs, UNK_ID), inputs)
+
+    def mask_soft(self, words: torch.Tensor) -> torch.Tensor:
+        """E_z's view of relaxed one-hot words ``(B, T, V)``: masked mass moves to ``<unk>``."""
+        hidden = words * self.masked
+        out = words - hidden
+        out[..., UNK_ID] += hidden.sum(-1)
+        return out
 
     def generator_parameters(self) -> list[nn.Parameter]:
         """Parameters of E_y, the embedding, E_z and G (everything but D)."""
         return [p for name, p in self.named_parameters() if not name.startswith("discrimin")]
 
+    def content(self, enc_emb: torch.Tensor, lengths: torch.Tensor, y: torch.Tensor
+                ) -> tuple[torch.Tensor, Memory | None]:
+        """z = E_z(x, y) from E_z's input embeddings, and G's copy memory (None without
+        ``model.attention``)."""
+        states = self.encoder.states(enc_emb, y)
+        z = last_state(states, lengths)
+        if self.generator.copy is None:
+            return z, None
+        mask = torch.arange(states.shape[1])[None] < lengths[:, None]
+        return z, Memory(states, enc_emb, mask)
+
     def encode(self, inputs: torch.Tensor, lengths: torch.Tensor, labels: torch.Tensor
-               ) -> torch.Tensor:
-        """z = E_z(x, E_y(label)) for id inputs ``<bos> w_1 .. w_n``."""
-        return self.encoder(self.embedding(inputs), lengths, self.style(labels))
+               ) -> tuple[torch.Tensor, Memory | None]:
+        """z and the copy memory for id inputs ``<bos> w_1 .. w_n`` (masked words hidden)."""
+        return self.content(self.embedding(self.mask_ids(inputs)), lengths, self.style(labels))

@@ -123,6 +123,10 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
     v = len(data.vocab)
     nets = {"classifier": SentimentClassifier(v, cfg.classifier), "lm": LanguageModel(v, cfg.lm),
             "style": StyleTransferModel(v, cfg.model)}
+    if cfg.model.mask_ratio is not None:
+        hidden = style_markers(data.splits["train"], data.vocab, cfg.model.mask_ratio,
+                               cfg.model.mask_min_count)
+        nets["style"].set_masked([data.vocab.stoi[w] for w in hidden])
     run = Run(cfg, out_dir, nets, resume, progress)
     if run.state is None and not run.done:
         (out_dir / "resolved_config.yaml").write_text(
@@ -293,6 +297,8 @@ def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
             csv.writer(fh).writerow([at, f"{acc:.4f}", f"{bleu:.2f}", f"{s:.2f}",
                                      int(improved), f"{run.wall():.1f}"])
 
+    if not resumed:
+        evaluate(0)  # the warm-up model competes too
     fields = ["style", "rec", "adv", "cycle", "disc", "disc_acc", "tau"]
     run.loop("adversarial", tc.adversarial_steps, step, fields, {"g": g_opt, "d": d_opt},
              {"train": sampler}, extra, evaluate, tc.eval_every)

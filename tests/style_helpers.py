@@ -29,7 +29,8 @@ def corpus(words: list[str], n: int, rng: random.Random) -> list[str]:
 TINY = """
 data: {{dir: {dir}, negative: [reviews.0], positive: [reviews.1], min_count: 1,
         dedupe: false}}
-model: {{embed_dim: 16, style_dim: 8, content_dim: 24, style_hidden: 8, disc_filters: 8}}
+model: {{embed_dim: 16, style_dim: 8, content_dim: 24, style_hidden: 8, disc_filters: 8,
+         mask_ratio: 3.0, mask_min_count: 2, attention: true}}
 classifier: {{embed_dim: 16, filters: 8, epochs: 2, batch_size: 32, lr: 0.01}}
 lm: {{embed_dim: 16, hidden: 24, epochs: 2, batch_size: 32, lr: 0.01}}
 train: {{threads: 1, batch_size: 32, pretrain_lr: 0.01, lr: 0.003, disc_lr: 0.01, lm_steps: 40,

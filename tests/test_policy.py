@@ -12,10 +12,10 @@ from app.personality import ACTIONS, STAND_BY, load_personality
 from app.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
 from app.policy.baselines import HomeostaticRule, RandomPolicy
 from app.policy.config import load_policy_config
-from app.policy.env import VecHomeostasisEnv
+from app.policy.env import Decisions, VecHomeostasisEnv
 from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
-from app.policy.train import action_discounts, selection_score, train
+from app.policy.train import action_discounts, selection_score, train, training_reward
 
 
 @pytest.fixture(scope="module")
@@ -133,6 +133,16 @@ def test_discount_per_decision_or_per_time():
     expected = torch.tensor([0.99 ** (1000 / 12), 0.99 ** (100 / 12), 0.99 ** 2.5, 0.99])
     assert torch.allclose(per_time, expected)
     assert per_time[0] < 0.44  # a charge costs the future as much as 83 stand-bys
+
+
+def test_training_reward_adds_the_penalty_and_charges_time(cfg):
+    durations = np.array([1000, 100, 30, 12])
+    z = np.zeros((3, 6))
+    d = Decisions(np.arange(3), z, np.array([0, 3, 2]), np.array([0.5, 1.0, 0.9]), z, z,
+                  np.array([0.0, 0.0, 1.0]))
+    assert np.allclose(training_reward(d, durations, cfg.train), [0.5, 1.0, 0.9])  # thesis
+    tc = cfg.train.model_copy(update={"insecure_penalty": -100.0, "time_cost": 0.01})
+    assert np.allclose(training_reward(d, durations, tc), [0.5 - 10, 1.0 - 0.12, 0.9 - 100.3])
 
 
 def test_selection_prefers_secure_then_rewarding_policies():

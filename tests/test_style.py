@@ -105,9 +105,23 @@ def test_style_code_and_its_ablation():
 def test_encoder_ignores_padding(model):
     alone = make_batch([[5, 6]], [0])
     padded = make_batch([[5, 6], [7, 8, 9, 10, 11]], [0, 1])
-    za = model.encode(alone.inputs, alone.lengths, alone.labels)
-    zp = model.encode(padded.inputs, padded.lengths, padded.labels)
+    za, _ = model.encode(alone.inputs, alone.lengths, alone.labels)
+    zp, _ = model.encode(padded.inputs, padded.lengths, padded.labels)
     assert za.shape == (1, 24) and torch.allclose(za[0], zp[0], atol=1e-6)
+
+
+def test_masked_style_markers_are_hidden_from_the_encoder(model):
+    a, b, c = (make_batch([[5, w, 7]], [0]) for w in (6, 8, 9))
+
+    def z(batch):
+        return model.encode(batch.inputs, batch.lengths, batch.labels)[0]
+
+    assert not torch.allclose(z(a), z(b))
+    model.set_masked([6, 8])
+    assert torch.allclose(z(a), z(b)) and not torch.allclose(z(a), z(c))
+    soft = torch.softmax(torch.randn(2, 3, 30), -1)
+    hidden = model.mask_soft(soft)
+    assert torch.allclose(hidden.sum(-1), torch.ones(2, 3)) and hidden[..., [6, 8]].eq(0).all()
 
 
 def test_generator_shapes_and_step_matches_teacher_forcing(model):
@@ -124,6 +138,28 @@ def test_generator_shapes_and_step_matches_teacher_forcing(model):
                                         5, tau=0.5)
     assert h.shape == (2, 5, 32) and words.shape == (2, 5, 30)
     assert torch.allclose(words.sum(-1), torch.ones(2, 5), atol=1e-5)
+
+
+def test_copy_attention_raises_the_source_words_and_ignores_padding(tmp_path, data_dir):
+    torch.manual_seed(0)
+    cfg = load_style_config(tiny_config(tmp_path, data_dir)).model
+    model = StyleTransferModel(30, cfg.model_copy(update={"attention": True})).eval()
+    alone = make_batch([[5, 6]], [0])
+    padded = make_batch([[5, 6], [7, 8, 9, 10, 11]], [0, 1])
+    za, ma = model.encode(alone.inputs, alone.lengths, alone.labels)
+    zp, mp = model.encode(padded.inputs, padded.lengths, padded.labels)
+    y = model.style(alone.labels)
+    table = model.embedding.weight
+    emb = model.embedding(alone.inputs)
+    _, la = model.generator.teacher_force(emb, za, y, table, ma)
+    _, lp = model.generator.teacher_force(emb, zp[:1], y, table, mp.select(torch.tensor([0])))
+    assert torch.allclose(la, lp, atol=1e-5)  # padding is never attended
+    _, plain = model.generator.teacher_force(emb, za, y, table)
+    assert not torch.allclose(la, plain)
+    with torch.no_grad():  # a strong copy path: the attended words win
+        model.generator.copy.mix.weight.copy_(torch.eye(16) * 50)
+        _, copied = model.generator.teacher_force(emb, za, y, table, ma)
+    assert set(copied.argmax(-1)[0].tolist()) <= {BOS_ID, 5, 6}
 
 
 def test_textcnn_masks_padding_and_short_sentences():

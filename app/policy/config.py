@@ -63,6 +63,7 @@ class TrainConfig(StrictModel):
     episode_steps: int = Field(ge=1)
     terminate_on_insecure: bool
     insecure_penalty: float = Field(default=0.0, le=0)
+    time_cost: float = Field(default=0.0, ge=0)
     total_transitions: int = Field(ge=1)
     gamma: float = Field(ge=0, le=1)
     gamma_steps: int | None = Field(default=None, ge=1)

@@ -25,8 +25,8 @@ from app.checkpoint import atomic_torch_save
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, MOTIVATIONS, Personality
 from app.policy.agent import DQNPolicy
-from app.policy.config import PolicyConfig
-from app.policy.env import VecHomeostasisEnv
+from app.policy.config import PolicyConfig, TrainConfig
+from app.policy.env import Decisions, VecHomeostasisEnv
 from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
 from app.policy.replay import ReplayBuffer
@@ -53,6 +53,15 @@ def action_discounts(gamma: float, durations: np.ndarray, gamma_steps: int | Non
     of 1000 steps) costs the future as much time as it takes (semi-Markov discounting)."""
     exponent = np.ones(len(durations)) if gamma_steps is None else durations / gamma_steps
     return torch.as_tensor(gamma ** exponent, dtype=torch.float32)
+
+
+def training_reward(d: Decisions, durations: np.ndarray, tc: TrainConfig) -> np.ndarray:
+    """The reward a transition is stored with: eq. 3.7's, plus ``insecure_penalty`` where
+    the robot became insecure, minus ``time_cost`` per step the action took (an
+    average-reward baseline: over a fixed stretch of time it subtracts the same total from
+    every policy, but a per-decision learner then sees what a long action costs)."""
+    return (d.reward + tc.insecure_penalty * d.terminal
+            - tc.time_cost * durations[d.action])
 
 
 def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.optim.Optimizer,
@@ -187,7 +196,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     try:
         while transitions < tc.total_transitions:
             d = env.advance()
-            memory.add(d.obs, d.action, d.reward + tc.insecure_penalty * d.terminal,
+            memory.add(d.obs, d.action, training_reward(d, homeostasis.duration, tc),
                        d.next_obs, d.terminal)
             transitions += len(d.idx)
             bar.update(len(d.idx))
