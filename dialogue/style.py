@@ -1,9 +1,10 @@
 """``StyleTransfer``: say a sentence in the robot's mood (positive or negative style).
 
 Sentences are tokenised like the Yelp data (lower case, ``did n't``, punctuation apart) and
-translations come back in that tokenised form (:func:`dialogue.style_data.detokenize` makes
-them readable). Words outside the vocabulary become ``<unk>``; each ``<unk>`` the model
-writes is replaced by the source's unknown words in order (dropped when none is left).
+raw translations are in that tokenised form; what :meth:`StyleTransfer.translate` returns is
+detokenised and capitalised like its source. Words outside the vocabulary become
+``<unk>``; each ``<unk>`` the model writes is replaced by the source's unknown words in
+order (dropped when none is left).
 
 Confidence check (content preservation): the *content words* of a sentence are its words
 with a letter that are neither stop words nor style markers (words one style uses at least
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import torch
 
-from dialogue.style_data import STYLES, UNK, UNK_ID, Vocab, tokenize
+from dialogue.style_data import STYLES, UNK, UNK_ID, Vocab, detokenize, tokenize
 from dialogue.style_decode import transfer_ids
 from dialogue.style_io import DEFAULT_MODEL_DIR, STOPWORDS, STYLE_FILE, load_transfer
 
@@ -52,6 +53,13 @@ def replace_unknown(output: Sequence[str], source: Sequence[str], vocab: Vocab) 
         else:
             out.append(w)
     return out
+
+
+def readable(words: Sequence[str], source: str) -> str:
+    """The tokens as a sentence to say, capitalised like the source."""
+    text = detokenize(words)
+    upper = source.lstrip()[:1].isupper()
+    return text[:1].upper() + text[1:] if upper else text
 
 
 @contextmanager
@@ -123,7 +131,8 @@ class StyleTransfer:
             overlap = self.content_overlap(tokens[i], words)
             keep = not words or overlap < self.min_content_overlap
             text = " ".join(words)
-            results[i] = Translation(sentences[i] if keep else text, text, overlap, keep)
+            said = sentences[i] if keep else readable(words, sentences[i])
+            results[i] = Translation(said, text, overlap, keep)
         return results
 
     def translate(self, sentences: Sequence[str], to: str) -> list[str]:

@@ -12,7 +12,7 @@ from style_helpers import one_thread, tiny_config, write_corpus
 
 from app.errors import UserError
 from dialogue import style_cli
-from dialogue.style import StyleTransfer, replace_unknown
+from dialogue.style import StyleTransfer, readable, replace_unknown
 from dialogue.style_config import load_style_config
 from dialogue.style_data import SPECIALS, Vocab
 from dialogue.style_io import StyleModelError
@@ -129,7 +129,9 @@ def test_translate_keeps_one_output_per_input_and_the_confidence_rule(trained):
     details = st.translate_detailed(inputs, "positive")
     assert len(details) == 3 and details[1].text == ""
     for d, src in zip(details, inputs, strict=True):
-        assert d.text == (src if d.kept_original else d.transferred)
+        assert d.text == (src if d.kept_original else readable(d.transferred.split(), src))
+    assert readable(["it", "'s", "good", "!"], "The pizza") == "It's good!"
+    assert readable(["it", "'s", "good", "!"], "the pizza") == "it's good!"
     assert "cold" in st.style_words and "food" not in st.style_words
     assert st.content_overlap(["the", "food", "was", "cold"], ["the", "food", "is", "hot"]) == 1
     assert st.content_overlap(["the", "food", "was", "cold"], ["my", "day", "was", "ok"]) == 0
