@@ -99,7 +99,8 @@ def last_state(states: torch.Tensor, lengths: torch.Tensor) -> torch.Tensor:
 
 
 class SentenceEncoder(nn.Module):
-    """E_z: embeddings ``(B, T, E)`` and style code -> content code z ``(B, content_dim)``."""
+    """E_z: embeddings ``(B, T, E)`` and style code -> second-layer states; the state after
+    the last real word is the content code z (:meth:`StyleTransferModel.content`)."""
 
     def __init__(self, embed_dim: int, style_dim: int, content_dim: int, vocab: int) -> None:
         super().__init__()
@@ -114,11 +115,6 @@ class SentenceEncoder(nn.Module):
         out1, _ = self.layer1(emb, (h0, torch.zeros_like(h0)))
         out2, _ = self.layer2(out1)
         return out2
-
-    def forward(self, emb: torch.Tensor, lengths: torch.Tensor, y: torch.Tensor
-                ) -> torch.Tensor:
-        """z: the second layer's state after the last real position (``lengths - 1``)."""
-        return last_state(self.states(emb, y), lengths)
 
     def lm_logits(self, emb: torch.Tensor, y: torch.Tensor, table: torch.Tensor
                   ) -> torch.Tensor:
