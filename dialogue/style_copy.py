@@ -31,6 +31,11 @@ class Memory:
         return Memory(self.keys[rows], self.values[rows], self.mask[rows])
 
 
+def select(memory: Memory | None, rows: torch.Tensor) -> Memory | None:
+    """:meth:`Memory.select`, passing None (a model without the copy path) through."""
+    return None if memory is None else memory.select(rows)
+
+
 class CopyAttention(nn.Module):
     """Bilinear attention of G's states over a :class:`Memory`, returned in embedding space."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import torch
 
-from dialogue.style_copy import Memory
+from dialogue.style_copy import Memory, select
 from dialogue.style_data import BOS_ID, EOS_ID, PAD_ID, Batch, make_batch
 from dialogue.style_model import StyleTransferModel
 
@@ -63,8 +63,8 @@ def beam_search(model: StyleTransferModel, batch: Batch, target: torch.Tensor,
     b, k = len(target), beam_size
     (h, c), z, memory = _start(model, batch, target)
     h, c = h.repeat_interleave(k, 0), c.repeat_interleave(k, 0)
-    rows = torch.arange(b).repeat_interleave(k)  # beams of one sentence share its memory
-    beam_memory = memory.select(rows) if memory is not None else None
+    # the beams of one sentence share its memory
+    beam_memory = select(memory, torch.arange(b).repeat_interleave(k))
     limit = (batch.lengths - 1 + max_extra_words).repeat_interleave(k)
     scores = torch.full((b, k), NEG_INF)
     scores[:, 0] = 0.0
@@ -106,7 +106,7 @@ def _choose(model: StyleTransferModel, z: torch.Tensor, memory: Memory | None,
         y = model.style(cand.labels)
         hidden, _ = model.generator.teacher_force(
             model.embedding(cand.inputs), z[rows], y, model.embedding.weight,
-            memory.select(rows) if memory is not None else None)
+            select(memory, rows))
         logd = torch.log_softmax(model.discriminator(hidden, cand.mask), 1)
         bonus = disc_weight * logd[torch.arange(len(flat)), cand.labels]
     best: list[tuple[float, list[int]]] = [(NEG_INF, []) for _ in finished]

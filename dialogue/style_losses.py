@@ -25,8 +25,8 @@ def pretrain_losses(model: StyleTransferModel, batch: Batch) -> dict[str, torch.
     y = model.style(batch.labels)
     emb = model.embedding(batch.inputs)
     table = model.embedding.weight
-    enc_emb = model.embedding(model.mask_ids(batch.inputs))
-    lm_enc = masked_nll(model.encoder.lm_logits(enc_emb, y, table), batch.targets).mean()
+    lm_enc = masked_nll(model.encoder.lm_logits(model.encoder_inputs(batch.inputs), y, table),
+                        batch.targets).mean()
     z0 = y.new_zeros(len(y), model.cfg.content_dim)
     _, logits = model.generator.teacher_force(emb, z0, y, table)
     lm_gen = masked_nll(logits, batch.targets).mean()
@@ -54,8 +54,7 @@ def transfer_losses(model: StyleTransferModel, batch: Batch, tau: float, weights
     flipped = 1 - labels
     y_src, y_tgt = model.style(labels), model.style(flipped)
     emb = model.embedding(batch.inputs)
-    z, memory = model.content(model.embedding(model.mask_ids(batch.inputs)), batch.lengths,
-                              y_src)
+    z, memory = model.content(model.encoder_inputs(batch.inputs), batch.lengths, y_src)
     h_real, logits = model.generator.teacher_force(emb, z, y_src, model.embedding.weight,
                                                    memory)
     losses = {"style": model.style.loss(labels),

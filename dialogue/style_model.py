@@ -257,7 +257,11 @@ class StyleTransferModel(nn.Module):
         mask = torch.arange(states.shape[1])[None] < lengths[:, None]
         return z, Memory(states, enc_emb, mask)
 
+    def encoder_inputs(self, inputs: torch.Tensor) -> torch.Tensor:
+        """E_z's input embeddings of id inputs, masked words shown as ``<unk>``."""
+        return self.embedding(self.mask_ids(inputs))
+
     def encode(self, inputs: torch.Tensor, lengths: torch.Tensor, labels: torch.Tensor
                ) -> tuple[torch.Tensor, Memory | None]:
         """z and the copy memory for id inputs ``<bos> w_1 .. w_n`` (masked words hidden)."""
-        return self.content(self.embedding(self.mask_ids(inputs)), lengths, self.style(labels))
+        return self.content(self.encoder_inputs(inputs), lengths, self.style(labels))
