@@ -78,6 +78,7 @@ class QuestionConfig(StrictModel):
     max_frames: PositiveInt
     paraphrases: PositiveInt
     max_questions: PositiveInt
+    fixed_wording: bool
 
 
 class VqgDataConfig(StrictModel):
@@ -119,7 +120,8 @@ def questions_for(graph: SceneGraph, seed: np.random.SeedSequence, cfg: VqgDataC
     """The data set's questions about ``graph`` (seeded by the frame's seed)."""
     q = cfg.questions
     rng = np.random.default_rng(seed.spawn(1)[0])
-    return generate_questions(graph, rng, q.max_frames, q.paraphrases, q.max_questions)
+    return generate_questions(graph, rng, q.max_frames, q.paraphrases, q.max_questions,
+                              q.fixed_wording)
 
 
 def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],

@@ -10,6 +10,7 @@ paraphrases of each.
 
 from __future__ import annotations
 
+import zlib
 from collections import defaultdict
 from dataclasses import dataclass
 
@@ -38,6 +39,7 @@ from perception.vqg_questions import (
     OCCASION_THINGS,
     VALUE_SLOTS,
     Frame,
+    frame_key,
     is_grounded,
     matches,
     parse_question,
@@ -214,10 +216,36 @@ def facts(scene: SceneGraph) -> list[Frame]:
     return sorted((f for f in out if is_grounded(f, scene)), key=repr)
 
 
+def _seeded(*key: object) -> Rng:
+    return np.random.default_rng(zlib.crc32(repr(key).encode()))
+
+
+def wordings(frame: Frame, style: Style, rng: Rng, n: int, fixed: bool) -> list[str]:
+    """Up to ``n`` distinct texts of ``frame``. Random ones from ``rng``; or, when ``fixed``,
+    the texts of the first templates, in an order seeded by the meaning alone, that can say
+    it in this ``style``, each with synonyms seeded by the meaning and the template, so that
+    a meaning reads the same in every scene that allows that template."""
+    if not fixed:
+        texts = {t for kind, text, slots in TEMPLATES
+                 if (t := realise(kind, text, dict(slots), frame, rng, style)) is not None}
+        picked = sorted(texts)
+        return [picked[i] for i in rng.permutation(len(picked))[:n]]
+    key = frame_key(frame)
+    out: list[str] = []
+    for i in _seeded(key).permutation(len(TEMPLATES)):
+        kind, text, slots = TEMPLATES[i]
+        t = realise(kind, text, dict(slots), frame, _seeded(key, int(i)), style)
+        if t is not None and t not in out:
+            out.append(t)
+            if len(out) == n:
+                break
+    return out
+
+
 def generate_questions(scene: SceneGraph, rng: Rng, max_frames: int, paraphrases: int,
-                       max_questions: int) -> list[str]:
+                       max_questions: int, fixed_wording: bool = False) -> list[str]:
     """Tokenised questions about ``scene``: up to ``max_frames`` frames, drawn round-robin over
-    the frame kinds, each written ``paraphrases`` ways at most."""
+    the frame kinds, each written ``paraphrases`` ways at most (see :func:`wordings`)."""
     by_kind: dict[str, list[Frame]] = defaultdict(list)
     for f in facts(scene):
         by_kind[f.kind].append(f)
@@ -230,12 +258,8 @@ def generate_questions(scene: SceneGraph, rng: Rng, max_frames: int, paraphrases
                 continue
             frame = queue.pop()
             style = Style(len(matches(frame, scene)) != 1, scene.occasion in PARTIES)
-            texts = {t for kind, text, fixed in TEMPLATES if kind == frame.kind
-                     if (t := realise(kind, text, dict(fixed), frame, rng, style)) is not None}
-            if not texts:
-                continue
-            chosen += 1
-            picked = sorted(texts)
-            questions += [" ".join(tokenize(picked[i])) for i in
-                          rng.permutation(len(picked))[:paraphrases]]
+            texts = wordings(frame, style, rng, paraphrases, fixed_wording)
+            if texts:
+                chosen += 1
+                questions += [" ".join(tokenize(t)) for t in texts]
     return questions[:max_questions]

@@ -15,6 +15,7 @@ from perception.vqg_data import (
     questions_for,
     write_vqg_dataset,
 )
+from perception.vqg_facts import Style, wordings
 from perception.vqg_layout import sample_plan
 from perception.vqg_questions import frame_key, is_grounded, is_on_topic, parse_question, tokenize
 from perception.vqg_scene import Node, SceneGraph
@@ -163,6 +164,27 @@ def test_generated_questions_parse_back_and_are_grounded(renders):
                    for f in frames), questions
         assert len({frame_key(f) for f in frames}) >= 20
         assert all(q == " ".join(tokenize(q)) for q in questions)
+
+
+def test_each_question_of_an_image_has_its_own_meaning(renders):
+    for seed, _, _, graph, _ in renders:
+        keys = [frame_key(parse_question(q)) for q in questions_for(graph, seed, CFG)]
+        assert len(set(keys)) == len(keys)
+
+
+def test_fixed_wording_depends_on_the_meaning_alone():
+    frame = parse_question("how many people are there ?")
+    fixed = {tuple(wordings(frame, Style(), np.random.default_rng(s), 1, fixed=True))
+             for s in range(10)}
+    drawn = {tuple(wordings(frame, Style(), np.random.default_rng(s), 1, fixed=False))
+             for s in range(10)}
+    assert len(fixed) == 1 < len(drawn)
+    assert parse_question(fixed.pop()[0]) == frame
+    # the meanings of one kind still spread over its templates
+    counts = [wordings(parse_question(f"how many {n} are there ?"), Style(),
+                       np.random.default_rng(0), 1, fixed=True)[0]
+              for n in ("chairs", "mugs", "balls", "people", "toys", "books")]
+    assert len({" ".join(t.split()[:2]) for t in counts}) >= 2
 
 
 def test_cake_with_many_lit_candles_loads():
