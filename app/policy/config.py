@@ -53,6 +53,8 @@ class NetworkConfig(StrictModel):
     hidden: list[int] = Field(min_length=1)
     head: int = Field(ge=1)
     init_std: float = Field(gt=0)
+    input_offset: float = 0.0
+    input_scale: float = Field(default=1.0, gt=0)
 
 
 class TrainConfig(StrictModel):
@@ -85,6 +87,12 @@ class TrainConfig(StrictModel):
     eval_episodes: int = Field(ge=1)
     eval_seed: int
     select_rsr: float = Field(ge=0, le=1)
+    demo_transitions: int = Field(default=0, ge=0)
+    demo_seed: int = 200000
+    demo_pretrain_updates: int = Field(default=0, ge=0)
+    demo_share: float = Field(default=0.25, ge=0, le=1)
+    demo_weight: float = Field(default=1.0, ge=0)
+    demo_margin: float = Field(default=0.8, ge=0)
 
 
 class PolicyConfig(StrictModel):

@@ -26,6 +26,7 @@ from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, MOTIVATIONS, Personality
 from app.policy.agent import DQNPolicy
 from app.policy.config import PolicyConfig, TrainConfig
+from app.policy.demo import collect_demonstrations, margin_loss
 from app.policy.env import Decisions, VecHomeostasisEnv
 from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
@@ -66,9 +67,12 @@ def training_reward(d: Decisions, durations: np.ndarray, tc: TrainConfig) -> np.
 
 def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.optim.Optimizer,
                batch: tuple[np.ndarray, ...], discounts: torch.Tensor,
-               max_grad_norm: float | None) -> float:
+               max_grad_norm: float | None, n_demo: int = 0, demo_weight: float = 0.0,
+               demo_margin: float = 0.0) -> float:
     """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y; ``discounts``
-    holds the discount of each action (:func:`action_discounts`)."""
+    holds the discount of each action (:func:`action_discounts`). The last ``n_demo``
+    transitions of ``batch`` are demonstrations: they add ``demo_weight`` times
+    :func:`~app.policy.demo.margin_loss`."""
     obs, act, rew, nxt, terminal = (torch.as_tensor(x) for x in batch)
     gamma = discounts[act]
     q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
@@ -77,12 +81,26 @@ def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.opt
         best = q_next.argmax(dim=1, keepdim=True)
         y = rew + gamma * (1.0 - terminal) * target(nxt).gather(1, best).squeeze(1)
     loss = F.mse_loss(q_obs.gather(1, act[:, None]).squeeze(1), y)
+    if n_demo:
+        loss = loss + demo_weight * margin_loss(q_obs[-n_demo:], act[-n_demo:], demo_margin)
     optimizer.zero_grad()
     loss.backward()
     if max_grad_norm is not None:
         torch.nn.utils.clip_grad_norm_(q.parameters(), max_grad_norm)
     optimizer.step()
     return loss.item()
+
+
+def sample_batch(memory: ReplayBuffer, demos: ReplayBuffer | None, rng: np.random.Generator,
+                 tc: TrainConfig, pretraining: bool) -> tuple[tuple[np.ndarray, ...], int]:
+    """A mini-batch and how many of its (last) transitions are demonstrations: all of them
+    while pre-training, ``demo_share`` of them later, none without demonstrations."""
+    if demos is None:
+        return memory.sample(rng, tc.batch_size), 0
+    n_demo = tc.batch_size if pretraining else round(tc.batch_size * tc.demo_share)
+    parts = [memory.sample(rng, tc.batch_size - n_demo)] if n_demo < tc.batch_size else []
+    parts.append(demos.sample(rng, n_demo))
+    return tuple(np.concatenate(x) for x in zip(*parts, strict=True)), n_demo
 
 
 def validate(q: DuelingQNetwork, homeostasis: Homeostasis, cfg: PolicyConfig) -> dict:
@@ -123,6 +141,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                                     alpha=tc.rmsprop_alpha, eps=tc.rmsprop_eps,
                                     foreach=True)
     memory = ReplayBuffer(tc.buffer_size, n_obs)
+    demos = None if tc.demo_transitions == 0 else collect_demonstrations(
+        homeostasis, env_cfg, tc, lambda d: training_reward(d, homeostasis.duration, tc))
     discounts = action_discounts(tc.gamma, homeostasis.duration, tc.gamma_steps)
     transitions = updates = episodes = 0
     credit, wall_offset = 0.0, 0.0
@@ -184,7 +204,32 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         explore = rng.random(len(obs)) < eps
         return np.where(explore, rng.integers(0, n_act, len(obs)), greedy)
 
+    def update(pretraining: bool) -> None:
+        """One gradient step, then the target sync, validation and checkpoint when due."""
+        nonlocal updates
+        if tc.learning_rate_end is not None:
+            for group in optimizer.param_groups:
+                group["lr"] = linear_schedule(tc.learning_rate, tc.learning_rate_end,
+                                              tc.total_transitions, transitions)
+        batch, n_demo = sample_batch(memory, demos, rng, tc, pretraining)
+        dqn_update(q, target, optimizer, batch, discounts, tc.max_grad_norm, n_demo,
+                   tc.demo_weight, tc.demo_margin)
+        updates += 1
+        if updates % tc.target_sync_updates == 0:
+            target.load_state_dict(q.state_dict())
+        if updates % tc.eval_every == 0:
+            validate_and_keep_best()
+        if updates % tc.checkpoint_every == 0:
+            save_checkpoint()
+
     start = time.perf_counter()
+    try:
+        for _ in tqdm(range(updates, tc.demo_pretrain_updates if demos is not None else 0),
+                      disable=not progress, desc="pre-train on the rule", unit="upd"):
+            update(pretraining=True)
+    except KeyboardInterrupt:
+        save_checkpoint()
+        raise
     decide = np.arange(tc.num_envs) if transitions == 0 else None
     if decide is not None:
         env.act(decide, choose(env.observe(decide)))
@@ -220,19 +265,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             credit += len(d.idx) * tc.updates_per_transition
             while credit >= 1.0:
                 credit -= 1.0
-                if tc.learning_rate_end is not None:
-                    for group in optimizer.param_groups:
-                        group["lr"] = linear_schedule(tc.learning_rate, tc.learning_rate_end,
-                                                      tc.total_transitions, transitions)
-                dqn_update(q, target, optimizer, memory.sample(rng, tc.batch_size), discounts,
-                           tc.max_grad_norm)
-                updates += 1
-                if updates % tc.target_sync_updates == 0:
-                    target.load_state_dict(q.state_dict())
-                if updates % tc.eval_every == 0:
-                    validate_and_keep_best()
-                if updates % tc.checkpoint_every == 0:
-                    save_checkpoint()
+                update(pretraining=False)
     except KeyboardInterrupt:
         save_checkpoint()
         raise

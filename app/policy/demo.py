@@ -1,0 +1,44 @@
+"""Learning from demonstrations (DQfD, Hester et al., 2018) for the policy's DQN.
+
+The homeostatic rule plays seeded training episodes; its transitions stay in a replay
+memory of their own for the whole run. The DQN is first trained on them alone (the TD
+loss plus a large-margin loss that puts the rule's action ``margin`` above every other
+action's value), then, while it collects its own experience, every batch mixes in a share
+of demonstrations with the margin loss still on them. Off by default
+(``train.demo_transitions: 0``); docs/homeostasis.md has the measured effect.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from app.homeostasis import Homeostasis
+from app.personality import MOTIVATIONS
+from app.policy.baselines import HomeostaticRule
+from app.policy.config import EnvConfig, TrainConfig
+from app.policy.env import VecHomeostasisEnv
+from app.policy.replay import ReplayBuffer
+
+
+def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: TrainConfig,
+                           reward_fn) -> ReplayBuffer:
+    """``tc.demo_transitions`` transitions of the homeostatic rule in ``tc.num_envs`` training
+    episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward."""
+    env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)
+    rule = HomeostaticRule(homeostasis)
+    memory = ReplayBuffer(tc.demo_transitions, len(MOTIVATIONS))
+    every = np.arange(tc.num_envs)
+    env.act(every, rule(env.observe(every)))
+    while memory.size < tc.demo_transitions:
+        d = env.advance()
+        memory.add(d.obs, d.action, reward_fn(d), d.next_obs, d.terminal)
+        env.act(d.idx, rule(d.decide_obs))
+    return memory
+
+
+def margin_loss(q_obs: torch.Tensor, expert: torch.Tensor, margin: float) -> torch.Tensor:
+    """DQfD's supervised loss: mean of ``max_a [Q(s, a) + margin * (a != a_E)] - Q(s, a_E)``."""
+    penalty = torch.full_like(q_obs, margin).scatter(1, expert[:, None], 0.0)
+    q_expert = q_obs.gather(1, expert[:, None]).squeeze(1)
+    return ((q_obs + penalty).max(dim=1).values - q_expert).mean()
