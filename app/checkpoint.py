@@ -47,6 +47,36 @@ def atomic_copy(src: str | Path, dst: str | Path) -> None:
         atomic_write(dst, lambda fh: shutil.copyfileobj(source, fh))
 
 
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def claim_run_folder(out_dir: Path, checkpoint: Path, resume: bool) -> None:
+    """Make ``out_dir`` this process's training folder. Refuse to start over an existing
+    ``checkpoint`` unless resuming, and refuse a folder that another running process is
+    training into: its ``.lock`` file holds that process id (a crashed run's stale lock is
+    taken over), so two runs never interleave their logs and checkpoints."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if checkpoint.exists() and not resume:
+        raise FileExistsError(f"{checkpoint} exists: pass --resume to continue it, "
+                              "or choose another --out")
+    lock = out_dir / ".lock"
+    try:
+        owner = int(lock.read_text())
+    except (OSError, ValueError):
+        owner = None
+    if owner is not None and owner != os.getpid() and _alive(owner):
+        raise UserError(f"{out_dir}: process {owner} is training into this folder "
+                        f"(stop it, or delete {lock} if it is not a training)")
+    atomic_write_bytes(lock, str(os.getpid()).encode())
+
+
 def read_weights(path: str | Path, error: type[UserError], missing_hint: str) -> Any:
     """``torch.load`` a model file safely (``weights_only``), raising ``error`` with the path
     when the file is missing (adding ``missing_hint``) or unreadable."""

@@ -20,7 +20,7 @@ import torch
 import yaml
 from tqdm import tqdm
 
-from app.checkpoint import atomic_torch_save
+from app.checkpoint import atomic_torch_save, claim_run_folder
 from dialogue.chat_config import ChatConfig
 from dialogue.chat_data import ChatDataError, Vocab, batches, load_chat_data
 from dialogue.chat_eval import perplexity
@@ -39,12 +39,9 @@ def count_parameters(net: torch.nn.Module) -> int:
 def train(cfg: ChatConfig, out_dir: Path, resume: bool = False, progress: bool = True) -> dict:
     """Train into ``out_dir``; returns a summary with the best validation perplexity."""
     tc = cfg.train
-    out_dir.mkdir(parents=True, exist_ok=True)
     ckpt_path, model_path = out_dir / "checkpoint.pt", out_dir / MODEL_FILE
     log_path, eval_path = out_dir / "train_log.csv", out_dir / "eval_log.csv"
-    if ckpt_path.exists() and not resume:
-        raise FileExistsError(f"{ckpt_path} exists: pass --resume to continue it, "
-                              "or choose another --out")
+    claim_run_folder(out_dir, ckpt_path, resume)
     torch.set_num_threads(tc.threads)
     torch.manual_seed(tc.seed)
     data = load_chat_data(cfg.data)

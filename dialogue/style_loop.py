@@ -21,7 +21,7 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from app.checkpoint import atomic_torch_save
+from app.checkpoint import atomic_torch_save, claim_run_folder
 from dialogue.style_config import StyleConfig
 from dialogue.style_data import BatchSampler
 
@@ -36,9 +36,7 @@ class Run:
         self.cfg, self.out_dir, self.nets, self.progress = cfg, out_dir, nets, progress
         self.name = name  # shown on the progress bars
         self.ckpt_path = out_dir / "checkpoint.pt"
-        if self.ckpt_path.exists() and not resume:
-            raise FileExistsError(f"{self.ckpt_path} exists: pass --resume to continue it, "
-                                  "or choose another --out")
+        claim_run_folder(out_dir, self.ckpt_path, resume)
         self.state: dict[str, Any] | None = None
         self.done: list[str] = []
         self.wall_offset = 0.0

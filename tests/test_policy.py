@@ -2,12 +2,17 @@
 demonstrations, input scaling and the shipped policy."""
 
 import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 import torch
 
+from app.checkpoint import claim_run_folder
 from app.cli import main
+from app.errors import UserError
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, STAND_BY, load_personality
 from app.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
@@ -112,6 +117,19 @@ def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
     assert summary["transitions"] >= 1200
     rows = (tmp_path / "train_log.csv").read_text().splitlines()
     assert rows[0].startswith("transitions,") and len(rows) > 1
+
+
+def test_a_folder_another_live_training_holds_is_refused(tmp_path):
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        (tmp_path / ".lock").write_text(str(other.pid))
+        with pytest.raises(UserError, match=f"process {other.pid} is training"):
+            claim_run_folder(tmp_path, tmp_path / "checkpoint.pt", resume=True)
+    finally:
+        other.kill()
+        other.wait()
+    claim_run_folder(tmp_path, tmp_path / "checkpoint.pt", resume=True)  # stale: taken over
+    assert (tmp_path / ".lock").read_text() == str(os.getpid())
 
 
 def test_insecure_penalty_lands_on_the_terminal_transitions(h, cfg, tmp_path):

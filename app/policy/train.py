@@ -21,7 +21,7 @@ import torch.nn.functional as F  # noqa: N812
 import yaml
 from tqdm import tqdm
 
-from app.checkpoint import atomic_torch_save
+from app.checkpoint import atomic_torch_save, claim_run_folder
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, MOTIVATIONS, Personality
 from app.policy.agent import DQNPolicy
@@ -120,12 +120,9 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
           progress: bool = True) -> dict:
     """Train a policy into ``out_dir``; returns a summary with the exported policy path."""
     tc = cfg.train
-    out_dir.mkdir(parents=True, exist_ok=True)
     ckpt_path, log_path = out_dir / "checkpoint.pt", out_dir / "train_log.csv"
     eval_path = out_dir / "eval_log.csv"
-    if ckpt_path.exists() and not resume:
-        raise FileExistsError(f"{ckpt_path} exists: pass --resume to continue it, "
-                              "or choose another --out")
+    claim_run_folder(out_dir, ckpt_path, resume)
     torch.set_num_threads(1)
     torch.manual_seed(tc.seed)
     rng = np.random.default_rng(tc.seed)
