@@ -10,6 +10,8 @@ of demonstrations with the margin loss still on them. Off by default
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import torch
 
@@ -17,12 +19,12 @@ from app.homeostasis import Homeostasis
 from app.personality import MOTIVATIONS
 from app.policy.baselines import HomeostaticRule
 from app.policy.config import EnvConfig, TrainConfig
-from app.policy.env import VecHomeostasisEnv
+from app.policy.env import Decisions, VecHomeostasisEnv
 from app.policy.replay import ReplayBuffer
 
 
 def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: TrainConfig,
-                           reward_fn) -> ReplayBuffer:
+                           reward_fn: Callable[[Decisions], np.ndarray]) -> ReplayBuffer:
     """``tc.demo_transitions`` transitions of the homeostatic rule in ``tc.num_envs`` training
     episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward."""
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)

@@ -220,54 +220,49 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             save_checkpoint()
 
     start = time.perf_counter()
+    log_file = log_path.open("a", newline="")
+    log = csv.writer(log_file)
+    recent: list[dict] = []
     try:
         for _ in tqdm(range(updates, tc.demo_pretrain_updates if demos is not None else 0),
                       disable=not progress, desc="pre-train on the rule", unit="upd"):
             update(pretraining=True)
-    except KeyboardInterrupt:
-        save_checkpoint()
-        raise
-    decide = np.arange(tc.num_envs) if transitions == 0 else None
-    if decide is not None:
-        env.act(decide, choose(env.observe(decide)))
-    log_file = log_path.open("a", newline="")
-    log = csv.writer(log_file)
-    bar = tqdm(total=tc.total_transitions, initial=transitions, disable=not progress,
-               desc="train policy", unit="dec")
-    recent: list[dict] = []
-    try:
-        while transitions < tc.total_transitions:
-            d = env.advance()
-            memory.add(d.obs, d.action, training_reward(d, homeostasis.duration, tc),
-                       d.next_obs, d.terminal)
-            transitions += len(d.idx)
-            bar.update(len(d.idx))
-            env.act(d.idx, choose(d.decide_obs))
-            eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
-                                  tc.exploration_fraction * tc.total_transitions, transitions)
-            for ep in d.episodes:
-                episodes += 1
-                log.writerow([transitions, updates, episodes, f"{ep['return']:.3f}",
-                              f"{ep['rsr']:.6f}", f"{eps:.4f}",
-                              f"{wall_offset + time.perf_counter() - start:.1f}"])
-                recent = [*recent, ep][-tc.num_envs:]
-            if d.episodes:
-                log_file.flush()
-                bar.set_postfix(eps=f"{eps:.2f}",
-                                rsr=f"{np.mean([e['rsr'] for e in recent]):.4f}",
-                                ret=f"{np.mean([e['return'] for e in recent]):.0f}")
+        if transitions == 0:
+            every = np.arange(tc.num_envs)
+            env.act(every, choose(env.observe(every)))
+        with tqdm(total=tc.total_transitions, initial=transitions, disable=not progress,
+                  desc="train policy", unit="dec") as bar:
+            while transitions < tc.total_transitions:
+                d = env.advance()
+                memory.add(d.obs, d.action, training_reward(d, homeostasis.duration, tc),
+                           d.next_obs, d.terminal)
+                transitions += len(d.idx)
+                bar.update(len(d.idx))
+                env.act(d.idx, choose(d.decide_obs))
+                eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
+                                      tc.exploration_fraction * tc.total_transitions, transitions)
+                for ep in d.episodes:
+                    episodes += 1
+                    log.writerow([transitions, updates, episodes, f"{ep['return']:.3f}",
+                                  f"{ep['rsr']:.6f}", f"{eps:.4f}",
+                                  f"{wall_offset + time.perf_counter() - start:.1f}"])
+                    recent = [*recent, ep][-tc.num_envs:]
+                if d.episodes:
+                    log_file.flush()
+                    bar.set_postfix(eps=f"{eps:.2f}",
+                                    rsr=f"{np.mean([e['rsr'] for e in recent]):.4f}",
+                                    ret=f"{np.mean([e['return'] for e in recent]):.0f}")
 
-            if memory.size < tc.learning_starts:
-                continue
-            credit += len(d.idx) * tc.updates_per_transition
-            while credit >= 1.0:
-                credit -= 1.0
-                update(pretraining=False)
+                if memory.size < tc.learning_starts:
+                    continue
+                credit += len(d.idx) * tc.updates_per_transition
+                while credit >= 1.0:
+                    credit -= 1.0
+                    update(pretraining=False)
     except KeyboardInterrupt:
         save_checkpoint()
         raise
     finally:
-        bar.close()
         log_file.close()
     validate_and_keep_best()
     save_checkpoint()
