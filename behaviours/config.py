@@ -74,8 +74,11 @@ class FindPeopleConfig(StrictModel):
     escape_speed: PositiveFloat
     escape_back_s: PositiveFloat
     escape_side_s: PositiveFloat
-    target_height_px: PositiveInt
-    height_tolerance_px: PositiveInt
+    target_distance_m: PositiveFloat
+    distance_tolerance_m: PositiveFloat
+    depth_window: tuple[float, tuple[float, float]]
+    depth_percentile: float = Field(ge=0, le=100)
+    person_max_height_m: PositiveFloat
     bottom_margin_px: NonNegativeInt
     keep_conf: float = Field(gt=0, lt=1)
     keep_gap_deg: PositiveFloat
@@ -87,12 +90,12 @@ class FindPeopleConfig(StrictModel):
     face_min_conf: float = Field(gt=0, lt=1)
     face_frames: PositiveInt
     face_wait_s: PositiveFloat
+    backoff_s: PositiveFloat
     orbit_speed: PositiveFloat
     orbit_s: PositiveFloat
     ignore_s: PositiveFloat
     ignore_width_deg: PositiveFloat
     vanish_strikes: PositiveInt
-    person_height_m: PositiveFloat
     detour_distance_m: PositiveFloat
     detour_candidates: PositiveInt
     detour_arc_weight: NonNegativeFloat

@@ -87,6 +87,7 @@ KEYS = {
     "progress": "int: homeostasis steps the running skill has been relieving",
     "act_status": "py_trees Status of the act subtree at the last tick",
     "frame": "np.ndarray | None: the latest head-camera frame (RGB)",
+    "depth": "np.ndarray | None: its depth image (m along the optical axis, float32)",
     "frame_t": "float: when it was taken (simulated s)",
     "detections": "list[Detection] in the latest frame",
     "heard": "list[SayEvent]: what people said to the robot, not yet answered",

@@ -3,8 +3,9 @@
 - people's social events (the simulation's inbox): lines said to the robot are queued in
   ``heard``; praise switches the encouragement stimulus on for ``encouragement_s``; a shown
   emotion colours the mood for ``emotion_hold_s``;
-- head-camera frames at the scenario's camera rate (or the rate a skill steering by person
-  boxes asks for on ``tracking``) go through the detector; a person box at least
+- head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
+  (or the rate a skill steering by person boxes asks for on ``tracking``) go through the
+  detector; a person box at least
   ``present_min_height_px`` tall makes the human-present stimulus, held ``present_hold_s``
   after the last one;
 - the motor temperature model gives the overheat stimulus.
@@ -27,11 +28,11 @@ class Sense(HouseholdBehaviour):
 
     def __init__(self, house: Household, name: str = "Sense") -> None:
         super().__init__(name, house, reads=("tracking",),
-                         writes=("stimuli", "emotion", "frame", "frame_t", "detections",
-                                 "heard"))
+                         writes=("stimuli", "emotion", "frame", "depth", "frame_t",
+                                 "detections", "heard"))
         self.bb.stimuli = np.zeros(3)
         self.bb.emotion = 0.0
-        self.bb.frame, self.bb.frame_t, self.bb.detections = None, -np.inf, []
+        self.bb.frame, self.bb.depth, self.bb.frame_t, self.bb.detections = None, None, -np.inf, []
         self.bb.heard = []
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
@@ -63,10 +64,11 @@ class Sense(HouseholdBehaviour):
         period = 1.0 / (asked if asked > 0 else house.camera_rate)
         if self.now - self.bb.frame_t < period - 1e-6:
             return
-        frame = house.robot.camera_frame()
+        frame, depth = house.robot.camera_frame_with_depth()
         house.frames_taken += 1
         detections = house.detector.detect(frame) if house.detector is not None else []
-        self.bb.frame, self.bb.frame_t, self.bb.detections = frame, self.now, detections
+        self.bb.frame, self.bb.depth = frame, depth
+        self.bb.frame_t, self.bb.detections = self.now, detections
         if any(d.height >= cfg.present_min_height_px for d in people_in_view(house, detections)):
             self._present_until = self.now + cfg.present_hold_s
 

@@ -9,7 +9,16 @@ the simulator's ground truth, the bearing error (robot heading vs. direction to 
 and the distance error (|base-to-person distance - 1.0 m|). The summary also counts the
 trials that succeeded with both errors within their bars (the strict reading of the bar).
 
-Usage: python bench/bench_find_people.py [--trials 100] [--seed 0] [--weights PATH]
+``--close`` places Tom instead 0.4-0.8 m in front of the robot, within +-20 degrees of its
+heading and facing it within +-30 degrees: a person who stepped up to the robot, their head
+above the frame, whom the robot must back off from before it can see their face.
+
+``--pose sitting`` seats Tom instead (a resident in a nursing home): his head is then at
+about the camera's height, so the box height no longer tells the distance; the depth image
+does.
+
+Usage: python bench/bench_find_people.py [--trials 100] [--seed 0] [--close]
+                                         [--pose standing|sitting] [--weights PATH]
                                          [--json PATH]
 """
 
@@ -42,12 +51,14 @@ SCENARIO = ROOT / "worlds" / "living_room.yaml"
 WEIGHTS = (ROOT / "assets" / "models" / "detector.pt",
            ROOT / "runs" / "train-detector" / "weights" / "best.pt")
 PERSON = "Tom"               # the living room's standing person
-TARGET_DISTANCE_M = 1.0      # where target_height_px stops the robot (docs/find_people.md)
+TARGET_DISTANCE_M = 1.0      # base to body centre where the skill stops (docs/find_people.md)
 BUDGET_S = 30.0              # simulated seconds to confirm the person
 FACING_DEG = 60.0            # the person faces the robot within this
 MIN_SEPARATION_M = 1.2       # robot and person start at least this far apart
 PERSON_CLEARANCE_M = 0.3     # free spot: this far from walls and obstacles
 ROBOT_CLEARANCE_M = 0.35     # the robot's radius (0.23 m) plus room to turn
+CLOSE_M = (0.4, 0.8)         # --close: the person stands this far in front of the robot
+CLOSE_CLEARANCE_M = 0.6      # --close: the robot's spot leaves room to back off
 BARS = {"success_pct": 95.0, "bearing_error_deg": 5.0, "distance_error_m": 0.15}
 
 
@@ -88,6 +99,24 @@ def placement(scenario: Scenario, blocked: list[Footprint], rng: np.random.Gener
     facing = math.degrees(math.atan2(ry - py, rx - px)) + rng.uniform(-FACING_DEG, FACING_DEG)
     return (Placement(x=rx, y=ry, yaw=float(rng.uniform(-180.0, 180.0))),
             Start(x=px, y=py, yaw=float(facing), pose="standing"))
+
+
+def close_placement(scenario: Scenario, blocked: list[Footprint], rng: np.random.Generator
+                    ) -> tuple[Placement, Start]:
+    """A free robot spot with the person CLOSE_M in front of it (within +-20 degrees of its
+    heading), facing the robot within +-30 degrees."""
+    while True:
+        rx, ry = free_spot(scenario, blocked, rng, CLOSE_CLEARANCE_M)
+        heading = rng.uniform(-math.pi, math.pi)
+        d = rng.uniform(*CLOSE_M)
+        px, py = rx + d * math.cos(heading), ry + d * math.sin(heading)
+        if scenario.in_rooms(px, py, PERSON_CLEARANCE_M) and not any(
+                f.contains(px, py, PERSON_CLEARANCE_M) for f in blocked):
+            break
+    facing = math.degrees(heading + math.pi) + rng.uniform(-30.0, 30.0)
+    robot_yaw = math.degrees(heading) + rng.uniform(-20.0, 20.0)
+    return (Placement(x=rx, y=ry, yaw=float(robot_yaw)),
+            Start(x=float(px), y=float(py), yaw=float(facing), pose="standing"))
 
 
 def trial_scenario(base: Scenario, robot: Placement, person: Start) -> Scenario:
@@ -179,6 +208,9 @@ def main() -> None:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--trials", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--close", action="store_true",
+                        help="the person stands 0.4-0.8 m in front of the robot")
+    parser.add_argument("--pose", choices=("standing", "sitting"), default="standing")
     parser.add_argument("--weights", type=Path, default=None,
                         help="YOLO weights (default: assets/models/detector.pt, else "
                              "runs/train-detector/weights/best.pt)")
@@ -190,14 +222,18 @@ def main() -> None:
     blocked = obstacles(base.model_copy(update={"people": ()}))
     rows, start = [], time.perf_counter()
     for i in range(args.trials):
-        robot, person = placement(base, blocked, np.random.default_rng([args.seed, i]))
+        place = close_placement if args.close else placement
+        robot, person = place(base, blocked, np.random.default_rng([args.seed, i]))
+        person = person.model_copy(update={"pose": args.pose})
         row = {"trial": i, "robot": robot.model_dump(), "person": person.model_dump(),
                **run_trial(trial_scenario(base, robot, person), detector)}
         rows.append(row)
         print(json.dumps({k: row[k] for k in ("trial", "success", "found_s",
                                                "bearing_error_deg", "distance_m")}),
               file=sys.stderr, flush=True)
-    summary = {"weights": str(weights), "seed": args.seed, **summarise(rows),
+    summary = {"weights": str(weights), "seed": args.seed, "close": args.close,
+               "pose": args.pose,
+               **summarise(rows),
                "wall_s": round(time.perf_counter() - start, 1)}
     print(table(summary))
     print(json.dumps(summary))

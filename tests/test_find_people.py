@@ -70,6 +70,18 @@ def test_finds_greets_and_faces_the_person(detector, short_relief, robot_yaw):
     assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
 
 
+def test_a_sitting_person_is_approached_to_the_target_distance(detector, short_relief):
+    # Seated, Tom's head is at the camera's height: his box is about as tall from 3 m as
+    # from 1 m, and only the depth image tells how far he is.
+    person = Start(x=1.8, y=2.2, yaw=10.0, pose="sitting")
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), person, short_relief)
+    status, events, (x, y, yaw), _ = find(scenario, detector)
+    assert status == Status.SUCCESS and events.of_kind("person_found")
+    bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
+    assert abs(math.degrees(bearing)) < 5.0
+    assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
+
+
 def test_furniture_in_the_way_is_driven_around(detector, short_relief):
     # Tom stands in the corner beyond the armchair; straight towards him the robot would run
     # into the coffee table and the armchair. It plans around them on the floor map.
@@ -107,16 +119,19 @@ def test_a_person_showing_their_back_is_not_greeted(detector):
 
 
 class FlickeringFalsePositive:
-    """A detector that sees a tall faceless "person" due west of the robot (where it would
-    be in the image), but only in 3 of every 13 frames that look there: a false positive on
-    furniture."""
+    """A detector that sees a faceless "person" on the bookshelf (at x = 5.6),
+    with a box as tall as a 1.8 m adult's at that distance, but only in 3 of every 13
+    frames that look there: a false positive on furniture that flickers."""
+
+    SPOT = (5.6, 2.5)
 
     def __init__(self) -> None:
         self.robot = None
         self.in_view = 0
 
     def detect(self, frame):
-        bearing = math.remainder(math.pi - self.robot.pose()[2], math.tau)
+        x, y, yaw = self.robot.pose()
+        bearing = math.remainder(math.atan2(self.SPOT[1] - y, self.SPOT[0] - x) - yaw, math.tau)
         tan_half_hfov = 4 / 3 * math.tan(math.radians(self.robot.cfg.camera.fov_deg) / 2)
         cx = 160.0 * (1.0 - math.tan(bearing) / tan_half_hfov) if abs(bearing) < 1.2 else -1.0
         if not 0.0 <= cx <= 320.0:
@@ -124,7 +139,9 @@ class FlickeringFalsePositive:
         self.in_view += 1
         if self.in_view % 13 > 3:
             return []
-        return [Detection("person", 0.6, (max(0.0, cx - 60.0), 2.0, min(320.0, cx + 60.0), 240.0))]
+        height = min(240.0, 203.0 / math.dist((x, y), self.SPOT))
+        return [Detection("person", 0.6,
+                          (max(0.0, cx - 60.0), 240.0 - height, min(320.0, cx + 60.0), 240.0))]
 
 
 def test_a_near_box_that_keeps_vanishing_is_ignored():
@@ -132,7 +149,8 @@ def test_a_near_box_that_keeps_vanishing_is_ignored():
     config = config.model_copy(
         update={"find_people": config.find_people.model_copy(update={"timeout_s": 20.0})})
     fake = FlickeringFalsePositive()
-    with Simulation(living_room(Placement(x=4.4, y=2.6, yaw=180.0), None)) as sim:
+    # the robot starts facing the bookshelf, about the target distance from it
+    with Simulation(living_room(Placement(x=5.08, y=2.5, yaw=0.0), None)) as sim:
         fake.robot = sim.robot
         house = make_household(sim, config, fake)
         status, _ = run_skill(sim, house, find_people.build(house), "find_people", 25.0)
@@ -140,6 +158,17 @@ def test_a_near_box_that_keeps_vanishing_is_ignored():
     given_up = house.events.of_kind("no_face")
     assert [e["vanished"] for e in given_up] == [config.find_people.vanish_strikes]
     assert given_up[0]["t"] < 15.0
+
+
+def test_a_person_standing_too_close_is_backed_off_from_and_greeted(detector, short_relief):
+    # Tom stands 0.5 m in front of the robot: his head is above the frame. The robot backs
+    # off to the target distance before it waits for his face.
+    person = Start(x=3.9, y=2.6, yaw=0.0, pose="standing")
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), person, short_relief)
+    status, events, (x, y, _), _ = find(scenario, detector)
+    assert status == Status.SUCCESS
+    assert not events.of_kind("no_face")
+    assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
 
 
 def test_face_must_lie_in_the_upper_part_of_the_person_box():

@@ -47,7 +47,7 @@ class BoxSteering(HouseholdBehaviour):
 
     def __init__(self, name: str, house: Household, rate: float,
                  hold_s: float | None = None) -> None:
-        super().__init__(name, house, reads=("frame", "frame_t", "detections"),
+        super().__init__(name, house, reads=("frame", "depth", "frame_t", "detections"),
                          writes=("tracking",))
         self.rate = rate
         self.cfg: FindPeopleConfig = house.config.find_people
@@ -96,23 +96,58 @@ class BoxSteering(HouseholdBehaviour):
         """Direction of the box centre from the optical axis (rad, counter-clockwise)."""
         return -math.atan(self.offset(box) * self.tan_half_hfov)
 
-    def locate(self, box: Detection) -> tuple[float, float] | None:
-        """Floor position of the person in ``box``: along the ray through the top edge's
-        centre, where it reaches the head of a person ``person_height_m`` tall (the camera
-        pose is the robot's own kinematics). None when the top is cut off by the frame (the
-        person is closer than about 0.8 m) or the ray does not rise to that height."""
-        rows, cols = self.bb.frame.shape[:2]
-        if box.box[1] <= 1:
+    def distance(self, box: Detection) -> float | None:
+        """Floor distance (m) from the base to the nearest surface of the person in ``box``,
+        from the depth image: the ``depth_percentile`` of the floor distances of the pixels
+        in the box's torso window (``depth_window``: a middle share of its columns, a band of
+        its rows below the head; background seen past the body lies farther and drops out).
+        The camera pose comes from the robot's own kinematics. None without valid depth."""
+        depth = self.bb.depth
+        rows, cols = depth.shape
+        x0, y0, x1, y1 = box.box
+        share, (top, bottom) = self.cfg.depth_window
+        half = share * (x1 - x0) / 2
+        c0, c1 = int(max(0, box.centre[0] - half)), int(min(cols, box.centre[0] + half + 1))
+        r0, r1 = int(max(0, y0 + top * (y1 - y0))), int(min(rows, y0 + bottom * (y1 - y0) + 1))
+        z = depth[r0:r1, c0:c1]
+        valid = z < self.house.robot.cfg.camera.far * 0.99
+        if not valid.any():
             return None
         pos, axis, up = self.house.robot.camera_pose()
         focal = rows / 2 / self.tan_half_vfov
+        u = (np.arange(c0, c1) + 0.5 - cols / 2) / focal
+        v = (rows / 2 - np.arange(r0, r1) - 0.5) / focal
+        rays = axis + u[None, :, None] * np.cross(axis, up) + v[:, None, None] * up
+        points = pos[:2] + z[..., None] * rays[..., :2]
+        base = np.asarray(self.house.robot.pose()[:2])
+        return float(np.percentile(np.linalg.norm(points - base, axis=-1)[valid],
+                                   self.cfg.depth_percentile))
+
+    def plausible(self, box: Detection) -> bool:
+        """Whether the box can hold a person: the top edge's ray, at the box's
+        :meth:`distance`, stays below ``person_max_height_m``. A false positive on a wall or
+        a cupboard fills the frame's height from farther away than any person could. A box
+        cut off by the frame's top, or without depth, passes."""
+        reach = self.distance(box)
+        if reach is None or box.box[1] <= 1:
+            return True
+        pos, axis, up = self.house.robot.camera_pose()
+        rows, cols = self.bb.frame.shape[:2]
+        focal = rows / 2 / self.tan_half_vfov
         ray = (axis + (box.centre[0] - cols / 2) / focal * np.cross(axis, up)
                + (rows / 2 - box.box[1]) / focal * up)
-        rise = self.cfg.person_height_m - pos[2]
-        if ray[2] <= 0 or rise <= 0:
+        top = pos[2] + reach * ray[2] / math.hypot(ray[0], ray[1])
+        return top <= self.cfg.person_max_height_m
+
+    def locate(self, box: Detection) -> tuple[float, float] | None:
+        """Floor position of the person in ``box``: :meth:`distance` along the box centre's
+        direction, or None."""
+        reach = self.distance(box)
+        if reach is None:
             return None
-        scale = rise / ray[2]
-        return float(pos[0] + scale * ray[0]), float(pos[1] + scale * ray[1])
+        x, y, yaw = self.house.robot.pose()
+        heading = yaw + self.bearing(box)
+        return x + reach * math.cos(heading), y + reach * math.sin(heading)
 
     def follow(self, detections: list[Detection],
                ignored: tuple[float, ...] = ()) -> Detection | None:
@@ -123,7 +158,8 @@ class BoxSteering(HouseholdBehaviour):
         A box counts when its conf reaches ``perception.min_conf``, or ``keep_conf`` within
         ``keep_gap_deg`` of the track (hysteresis: a person seen side-on is not dropped). It
         must reach within ``bottom_margin_px`` of the image's bottom edge (at ``head_pitch``
-        every standing or seated adult's box does), and its direction must not lie within
+        every standing or seated adult's box does), be no taller than a person at its
+        distance can be (:meth:`plausible`), and its direction must not lie within
         ``ignore_width_deg`` of an ``ignored`` one (rad). The best ``conf - gap to the
         track (rad)`` wins."""
         cfg = self.cfg
@@ -144,7 +180,8 @@ class BoxSteering(HouseholdBehaviour):
                  if d.cls == "person" and d.box[3] >= bottom
                  and (d.conf >= self.house.config.perception.min_conf
                       or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
-                 and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)]
+                 and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)
+                 and self.plausible(d)]
         best = max(boxes, key=score, default=None)
         if best is not None:
             self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1

@@ -6,8 +6,9 @@ Only the detector's boxes on the blackboard steer the robot (no simulator ground
 
 - heading: the person box's horizontal offset from the image centre, normalised to
   [-1, 1], drives the turn rate towards 0;
-- approach: the box height drives the forward speed until it reaches
-  ``target_height_px`` (about 1.0 m from a standing adult, docs/find_people.md).
+- approach: the person's distance, read from the head camera's depth image inside their
+  box, drives the forward speed until it reaches ``target_distance_m`` (their body centre
+  then stands about 1.0 m away, whether they stand or sit; docs/find_people.md).
 
 The controllers act once per fresh camera frame; in between the base holds its command for
 up to 1.5 frame periods, then stops. Close to the person the robot counts frames with their
@@ -30,8 +31,8 @@ from perception.detector import Detection
 
 
 class ApproachPerson(BoxSteering):
-    """Search (turn in place), centre and approach a person until their box is
-    ``target_height_px`` tall. SUCCESS there once their face has been seen in
+    """Search (turn in place), centre and approach a person until they are
+    ``target_distance_m`` away. SUCCESS there once their face has been seen in
     ``face_frames`` frames since the robot began to follow them (their front is turned to
     it). Furniture on the map between them: the robot takes a planned detour (:class:`Detour`);
     blocked by anything else (the base reports it), it backs up and sidesteps. If the
@@ -43,7 +44,8 @@ class ApproachPerson(BoxSteering):
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
         super().__init__(name, house, house.config.perception.tracking_rate)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
-        self._start = self._seen = self._near_since = 0.0   # s: started, person last seen, near
+        self._start = self._seen = 0.0           # s: started, person last seen
+        self._close_since = self._near_since = 0.0   # s: box at least / about target height
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
         self._ignored: dict[float, float] = {}   # world heading (rad) -> ignored until (s)
@@ -55,7 +57,7 @@ class ApproachPerson(BoxSteering):
         super().initialise()
         self.approach.reset()
         self._start = self.now
-        self._seen = self._near_since = -math.inf
+        self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
         self._side, self._escape_start = 1.0, -math.inf
         self._ignored, self._vanished = {}, {}
@@ -89,42 +91,52 @@ class ApproachPerson(BoxSteering):
             self.command(0.0, 0.0, 0.0)
             return
         if math.isfinite(self._seen):
-            if math.isfinite(self._near_since) and self._faces < self.cfg.face_frames:
+            if math.isfinite(self._close_since) and self._faces < self.cfg.face_frames:
                 self._count_vanished()
             self._detours = 0
             self.forget()
             self.heading.reset()
             self.approach.reset()
-            self._seen = self._near_since = -math.inf
+            self._seen = self._close_since = self._near_since = -math.inf
             self._faces = 0
         self.command(0.0, 0.0, self.cfg.search_turn_speed)
 
     def _steer(self, person: Detection, detections: list[Detection], dt: float) -> Status:
         cfg = self.cfg
         offset = self.offset(person)
-        shortfall = (person.height - cfg.target_height_px) / self.bb.frame.shape[0]
+        dist = self.distance(person)
+        shortfall = 0.0 if dist is None else cfg.target_distance_m - dist   # > 0: too close
         wz = self.heading(offset, dt=dt)
         vx = self.approach(shortfall, dt=dt) * max(0.0, 1.0 - abs(offset) / cfg.approach_max_offset)
         self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf)
-        near = person.height >= cfg.target_height_px - cfg.height_tolerance_px
+        # Close: at most about the target distance away. Near: about at it. Closer (the
+        # person stepped up to the robot, their head may be cut off by the frame), the
+        # approach loop backs off; the face wait, circling and giving up start once the
+        # robot is near, or after `backoff_s` of being close without getting near (backing
+        # off is blocked).
+        close = shortfall >= -cfg.distance_tolerance_m and dist is not None
+        near = close and shortfall <= cfg.distance_tolerance_m
+        if close and not math.isfinite(self._close_since):
+            self._close_since = self.now
         if near and not math.isfinite(self._near_since):
             self._near_since = self.now
-        arrived = (near and abs(offset) <= cfg.centre_tolerance
-                   and person.height <= cfg.target_height_px + cfg.height_tolerance_px)
+        arrived = near and abs(offset) <= cfg.centre_tolerance
         if arrived and self._faces >= cfg.face_frames:
             self.command(0.0, 0.0, 0.0)
             self.emit("person_found", box=[round(v, 1) for v in person.box],
                       bearing_deg=round(math.degrees(self.bearing(person)), 2),
                       face_frames=self._faces, after_s=round(self.now - self._start, 2))
             return Status.SUCCESS
-        waited = self.now - self._near_since if near else 0.0
+        near_at = self._near_since if math.isfinite(self._near_since) else math.inf
+        face_clock = min(near_at, self._close_since + cfg.backoff_s)
+        waited = max(0.0, self.now - face_clock) if close else 0.0
         if waited >= cfg.face_wait_s + 3 * cfg.orbit_s:
             self._give_up(person)
         elif waited >= cfg.face_wait_s:
             self.command(vx, self._orbit(waited) * cfg.orbit_speed, wz)
         elif arrived:
             self.command(0.0, 0.0, 0.0)
-        elif not (near or self._detours >= cfg.max_detours) and self._start_detour(person):
+        elif not (close or self._detours >= cfg.max_detours) and self._start_detour(person):
             return self._drive_detour()
         else:
             self.command(*self._avoid(vx, wz))
@@ -189,7 +201,7 @@ class ApproachPerson(BoxSteering):
         self._ignored[self.house.robot.pose()[2] + bearing] = self.now + self.cfg.ignore_s
         self.emit("no_face", bearing_deg=round(math.degrees(bearing), 2), face_frames=self._faces)
         self.forget()
-        self._seen = self._near_since = -math.inf
+        self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
         self.command(0.0, 0.0, 0.0)
 
