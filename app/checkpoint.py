@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import os
 import shutil
 import tempfile
@@ -61,7 +63,8 @@ def claim_run_folder(out_dir: Path, checkpoint: Path, resume: bool) -> None:
     """Make ``out_dir`` this process's training folder. Refuse to start over an existing
     ``checkpoint`` unless resuming, and refuse a folder that another running process is
     training into: its ``.lock`` file holds that process id (a crashed run's stale lock is
-    taken over), so two runs never interleave their logs and checkpoints."""
+    taken over), so two runs never interleave their logs and checkpoints. The lock is
+    removed when this process exits."""
     out_dir.mkdir(parents=True, exist_ok=True)
     if checkpoint.exists() and not resume:
         raise FileExistsError(f"{checkpoint} exists: pass --resume to continue it, "
@@ -75,6 +78,14 @@ def claim_run_folder(out_dir: Path, checkpoint: Path, resume: bool) -> None:
         raise UserError(f"{out_dir}: process {owner} is training into this folder "
                         f"(stop it, or delete {lock} if it is not a training)")
     atomic_write_bytes(lock, str(os.getpid()).encode())
+    atexit.register(_release, lock, os.getpid())
+
+
+def _release(lock: Path, pid: int) -> None:
+    """Remove ``lock`` if it still names ``pid`` (a forked child inherits the exit hook)."""
+    with contextlib.suppress(OSError, ValueError):
+        if int(lock.read_text()) == pid == os.getpid():
+            lock.unlink()
 
 
 def read_weights(path: str | Path, error: type[UserError], missing_hint: str) -> Any:

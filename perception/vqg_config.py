@@ -92,6 +92,8 @@ class TrainConfig(StrictModel):
     image_steps: int = Field(ge=0)
     image_lr: float = Field(gt=0)
     weight_decay: float = Field(ge=0)
+    image_targets: tuple[Literal["words", "facts"], ...] = Field(min_length=1)
+    image_fact_min_images: PositiveInt
     batch_size: PositiveInt
     vae_steps: int = Field(ge=0)
     adversarial_steps: int = Field(ge=0)

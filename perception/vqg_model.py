@@ -31,7 +31,7 @@ from perception.vqg_config import ModelConfig
 class ImageEncoder(nn.Module):
     """E_I: uint8 images ``(B, 3, H, W)`` -> trunk features -> f ``(B, feature_dim)``."""
 
-    def __init__(self, cfg: ModelConfig, vocab: int) -> None:
+    def __init__(self, cfg: ModelConfig) -> None:
         super().__init__()
         layers: list[nn.Module] = []
         c_in = 3
@@ -44,7 +44,6 @@ class ImageEncoder(nn.Module):
         self.trunk_dim = c_in * cfg.pool_grid[0] * cfg.pool_grid[1]
         self.drop = nn.Dropout(cfg.image_dropout)
         self.proj = nn.Linear(self.trunk_dim, cfg.feature_dim)
-        self.bow = nn.Linear(cfg.feature_dim, vocab)
 
     def features(self, images: torch.Tensor) -> torch.Tensor:
         """Trunk features ``(B, trunk_dim)`` of uint8 images (frozen after pre-training)."""
@@ -124,7 +123,7 @@ class VqgModel(nn.Module):
     def __init__(self, vocab: int, cfg: ModelConfig) -> None:
         super().__init__()
         self.cfg = cfg
-        self.image = ImageEncoder(cfg, vocab)
+        self.image = ImageEncoder(cfg)
         self.embedding = nn.Embedding(vocab, cfg.embed_dim, padding_idx=PAD_ID)
         self.encoder = QuestionEncoder(cfg)
         # G's initial state is [z, f]: Generator.initial(z, y) concatenates [z, y]
@@ -137,7 +136,7 @@ class VqgModel(nn.Module):
     def generator_parameters(self) -> list[nn.Parameter]:
         """What L_1 trains after pre-training: the projection of E_I, embedding, E_z, G."""
         return [p for n, p in self.named_parameters()
-                if not n.startswith(("d1.", "d2.", "image.trunk.", "image.bow."))]
+                if not n.startswith(("d1.", "d2.", "image.trunk."))]
 
     def discriminator_parameters(self) -> list[nn.Parameter]:
         """What L_2 trains: D1 and D2."""

@@ -1,9 +1,10 @@
 """Training the visual question generator (thesis §3.4.2, §4.3), one phase after another.
 
-1. ``image``: E_I (CNN + projection) learns to predict which words occur in an image's
-   questions (multi-label cross-entropy). It stands in for the ImageNet pre-training of the
-   thesis's VGG16; afterwards the CNN trunk is frozen (as VGG16 is in the thesis) and its
-   features are computed once per image.
+1. ``image``: E_I (CNN + projection) and a linear head learn to predict which words occur in
+   an image's questions and/or which grounded frames its scene graph holds (multi-label
+   cross-entropy, ``train.image_targets``). It stands in for the ImageNet pre-training of the
+   thesis's VGG16; afterwards the head is dropped, the CNN trunk is frozen (as VGG16 is in
+   the thesis) and its features are computed once per image.
 2. ``vae``: eq. 3.16 alone, the reconstruction loss plus the KL divergence to the prior
    (weight warmed up linearly over ``kl_warmup_steps``), training E_I's projection, the
    embedding, E_z and G.
@@ -19,6 +20,7 @@ best one is exported to ``vqg.pt``. Checkpoints, CSV logs and resume come from
 from __future__ import annotations
 
 import json
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,12 +35,15 @@ from dialogue.style_losses import temperature
 from perception.vqg import VqgModelError
 from perception.vqg_config import VqgConfig
 from perception.vqg_eval import Selector, load_items
+from perception.vqg_facts import facts
 from perception.vqg_model import (
     VqgModel,
     adversarial_losses,
     discriminator_losses,
     vae_losses,
 )
+from perception.vqg_questions import frame_key
+from perception.vqg_scene import load_scene
 from perception.vqg_vocab import SplitData, build_vocab, load_split
 
 PHASES = ("image", "vae", "adversarial")
@@ -55,13 +60,8 @@ class Data:
     seqs: list[list[int]]
     owner: list[int]
     feats: dict[str, torch.Tensor]
-
-    def bow_targets(self, split: SplitData) -> torch.Tensor:
-        """``(N, V)``: 1 where a word occurs in one of the image's questions."""
-        out = torch.zeros(len(split.ids), len(self.vocab))
-        for i, qs in enumerate(split.questions):
-            out[i, sorted({w for q in qs for w in self.vocab.encode(q)})] = 1.0
-        return out
+    image_targets: dict[str, torch.Tensor]  # split -> E_I's pre-training targets (N, T)
+    target_names: list[str]                  # what each of the T columns stands for
 
     def trunk_features(self, model: VqgModel, split: str) -> torch.Tensor:
         """The frozen CNN trunk's features of one split (computed once)."""
@@ -82,7 +82,46 @@ def prepare_data(cfg: VqgConfig, out_dir: Path) -> Data:
     val = load_split(root, "val", d.image_width, d.image_height, out_dir / "cache")
     vocab = build_vocab(train, d.min_count)
     seqs, owner = train.pairs(vocab, d.max_words)
-    return Data(train, val, vocab, seqs, owner, {})
+    targets, names = pretraining_targets(cfg, root, {"train": train, "val": val}, vocab)
+    return Data(train, val, vocab, seqs, owner, {}, targets, names)
+
+
+def _multi_hot(rows: list[set[int]], width: int) -> torch.Tensor:
+    out = torch.zeros(len(rows), width)
+    for i, cols in enumerate(rows):
+        out[i, sorted(cols)] = 1.0
+    return out
+
+
+def pretraining_targets(cfg: VqgConfig, root: Path, splits: dict[str, SplitData],
+                        vocab: Vocab) -> tuple[dict[str, torch.Tensor], list[str]]:
+    """Multi-hot targets of E_I's pre-training per split and the names of their columns,
+    side by side for each source of ``train.image_targets``: ``words`` (``word:W``), the
+    vocabulary words of the image's questions; ``facts`` (``fact:KEY``), the grounded
+    frames of its scene graph (:func:`perception.vqg_facts.facts`: which objects, colours,
+    counts, places and relations are true together) that hold in at least
+    ``image_fact_min_images`` training images and fail in as many."""
+    tc = cfg.train
+    parts: dict[str, list[torch.Tensor]] = {s: [] for s in splits}
+    names: list[str] = []
+    if "words" in tc.image_targets:
+        names += [f"word:{w}" for w in vocab.itos]
+        for s, split in splits.items():
+            rows = [{w for q in qs for w in vocab.encode(q)} for qs in split.questions]
+            parts[s].append(_multi_hot(rows, len(vocab)))
+    if "facts" in tc.image_targets:
+        keys = {s: [{repr(frame_key(f)) for f in facts(
+                    load_scene(root / "scenes" / s / f"{i}.json"))} for i in split.ids]
+                for s, split in splits.items()}
+        n, least = len(keys["train"]), tc.image_fact_min_images
+        counts = Counter(k for row in keys["train"] for k in row)
+        index = {k: j for j, k in enumerate(sorted(
+            k for k, c in counts.items() if least <= c <= n - least))}
+        names += [f"fact:{k}" for k in index]
+        for s, rows in keys.items():
+            parts[s].append(_multi_hot([{index[k] for k in row if k in index} for row in rows],
+                                       len(index)))
+    return {s: torch.cat(p, dim=1) for s, p in parts.items()}, names
 
 
 def train(cfg: VqgConfig, out_dir: Path, resume: bool = False, progress: bool = True,
@@ -98,7 +137,8 @@ def train(cfg: VqgConfig, out_dir: Path, resume: bool = False, progress: bool = 
     torch.manual_seed(tc.seed)
     data = prepare_data(cfg, out_dir)
     model = VqgModel(len(data.vocab), cfg.model)
-    run = Run(cfg, out_dir, {"vqg": model}, resume, progress, name="vqg")
+    head = torch.nn.Linear(cfg.model.feature_dim, data.image_targets["train"].shape[1])
+    run = Run(cfg, out_dir, {"vqg": model, "image_head": head}, resume, progress, name="vqg")
     if run.state is None and not run.done:
         (out_dir / "resolved_config.yaml").write_text(
             yaml.safe_dump(cfg.model_dump(mode="json"), sort_keys=False))
@@ -134,28 +174,29 @@ def _adam(run: Run, params: list, lr: float) -> torch.optim.Optimizer:
 
 
 def phase_image(run: Run, data: Data, model: VqgModel, _: Selector) -> dict:
-    """Pre-train E_I on the bag of words of each training image's questions."""
-    tc, n = run.cfg.train, len(data.train.ids)
-    targets = data.bow_targets(data.train)
+    """Pre-train E_I with the run's ``image_head`` on the multi-label targets of each
+    training image."""
+    tc, n, head = run.cfg.train, len(data.train.ids), run.nets["image_head"]
+    targets = data.image_targets["train"]
     sampler = BatchSampler([[i] for i in range(n)], list(range(n)), tc.image_batch, tc.seed + 1)
-    opt = torch.optim.Adam(model.image.parameters(), lr=tc.image_lr,
+    opt = torch.optim.Adam([*model.image.parameters(), *head.parameters()], lr=tc.image_lr,
                            weight_decay=tc.weight_decay)
 
-    def bow_loss(images: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
-        logits = model.image.bow(model.image(model.image.features(images)))
+    def bce(images: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+        logits = head(model.image(model.image.features(images)))
         return F.binary_cross_entropy_with_logits(logits, target)
 
     def step(_: int) -> dict[str, float]:
         model.train()
         idx = sampler.next().labels
-        loss = bow_loss(data.train.images[idx], targets[idx])
+        loss = bce(data.train.images[idx], targets[idx])
         _step(opt, loss, tc.grad_clip)
         return {"bce": loss.item()}
 
     run.loop("image", tc.image_steps, step, ["bce"], {"opt": opt}, {"train": sampler})
     model.eval()
     with torch.no_grad():
-        val = round(bow_loss(data.val.images, data.bow_targets(data.val)).item(), 4)
+        val = round(bce(data.val.images, data.image_targets["val"]).item(), 4)
     atomic_torch_save({"vocab": list(data.vocab.itos), "state_dict": model.image.state_dict(),
                        "val_bce": val}, run.out_dir / IMAGE_FILE)
     return {"image": {"val_bce": val}}

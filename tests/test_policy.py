@@ -5,6 +5,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -130,6 +131,16 @@ def test_a_folder_another_live_training_holds_is_refused(tmp_path):
         other.wait()
     claim_run_folder(tmp_path, tmp_path / "checkpoint.pt", resume=True)  # stale: taken over
     assert (tmp_path / ".lock").read_text() == str(os.getpid())
+
+
+def test_the_lock_goes_when_the_training_process_exits(tmp_path):
+    code = ("import sys; from pathlib import Path; from app.checkpoint import claim_run_folder; "
+            "d = Path(sys.argv[1]); claim_run_folder(d, d / 'checkpoint.pt', resume=False); "
+            "print((d / '.lock').read_text())")
+    done = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True,
+                          text=True, check=True, cwd=Path(__file__).resolve().parents[1])
+    assert done.stdout.strip().isdigit()          # held while it ran
+    assert not (tmp_path / ".lock").exists()      # released at exit
 
 
 def test_insecure_penalty_lands_on_the_terminal_transitions(h, cfg, tmp_path):

@@ -20,8 +20,10 @@ from dialogue.style_data import PAD_ID, make_batch
 from perception import vqg_cli, vqg_train
 from perception.vqg import VqgModelError, VqgQuestionGenerator
 from perception.vqg_config import load_vqg_config
+from perception.vqg_facts import facts
 from perception.vqg_model import Latent, MatchDiscriminator, VqgModel
-from perception.vqg_scene import PALETTE, Node, SceneGraph
+from perception.vqg_questions import frame_key
+from perception.vqg_scene import PALETTE, Node, SceneGraph, load_scene
 
 KINDS = ["mug", "ball", "book", "duck"]
 COLOURS = ["red", "green", "blue", "yellow"]
@@ -184,6 +186,26 @@ def test_tiny_training_lowers_the_losses(trained):
     best = max(valid, key=lambda r: float(r["score"]))
     assert summary["selected"]["step"] == int(best["step"]) and best["best"] == "1"
     assert (trained / "vqg.pt").read_bytes() == (out / "vqg.pt").read_bytes()
+
+
+def test_pretraining_targets_are_question_words_and_grounded_facts(data_dir, tmp_path):
+    cfg = load_vqg_config(tiny_config(tmp_path, data_dir))
+    cfg = cfg.model_copy(update={"train": cfg.train.model_copy(
+        update={"image_targets": ("words", "facts"), "image_fact_min_images": 2})})
+    data = vqg_train.prepare_data(cfg, tmp_path / "run")
+    targets, names = data.image_targets["train"], data.target_names
+    assert targets.shape == (16, len(names))
+    assert names[:len(data.vocab)] == [f"word:{w}" for w in data.vocab.itos]
+    fact_names = {n for n in names if n.startswith("fact:")}
+    assert fact_names
+    for i, name in enumerate(data.train.ids):
+        marked = {names[j] for j in targets[i].nonzero().flatten().tolist()}
+        words = {f"word:{w}" for q in data.train.questions[i] for w in q}
+        scene = load_scene(data_dir / "scenes" / "train" / f"{name}.json")
+        true = {f"fact:{frame_key(f)!r}" for f in facts(scene)}
+        assert marked == (words & set(names)) | (true & fact_names)
+    column = targets[:, len(data.vocab):]   # each kept fact is true in some images only
+    assert (column.sum(0) >= 2).all() and (column.sum(0) <= 14).all()
 
 
 def test_existing_run_needs_resume(trained):
