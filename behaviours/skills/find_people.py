@@ -45,7 +45,7 @@ class ApproachPerson(BoxSteering):
         super().__init__(name, house, house.config.perception.tracking_rate)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
         self._start = self._seen = 0.0           # s: started, person last seen
-        self._close_since = self._near_since = 0.0   # s: box at least / about target height
+        self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
         self._ignored: dict[float, float] = {}   # world heading (rad) -> ignored until (s)
