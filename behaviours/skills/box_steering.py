@@ -113,11 +113,7 @@ class BoxSteering(HouseholdBehaviour):
         valid = z < self.house.robot.cfg.camera.far * 0.99
         if not valid.any():
             return None
-        pos, axis, up = self.house.robot.camera_pose()
-        focal = rows / 2 / self.tan_half_vfov
-        u = (np.arange(c0, c1) + 0.5 - cols / 2) / focal
-        v = (rows / 2 - np.arange(r0, r1) - 0.5) / focal
-        rays = axis + u[None, :, None] * np.cross(axis, up) + v[:, None, None] * up
+        pos, rays = self._rays(np.arange(c0, c1)[None, :] + 0.5, np.arange(r0, r1)[:, None] + 0.5)
         points = pos[:2] + z[..., None] * rays[..., :2]
         base = np.asarray(self.house.robot.pose()[:2])
         return float(np.percentile(np.linalg.norm(points - base, axis=-1)[valid],
@@ -131,13 +127,19 @@ class BoxSteering(HouseholdBehaviour):
         reach = self.distance(box)
         if reach is None or box.box[1] <= 1:
             return True
-        pos, axis, up = self.house.robot.camera_pose()
-        rows, cols = self.bb.frame.shape[:2]
-        focal = rows / 2 / self.tan_half_vfov
-        ray = (axis + (box.centre[0] - cols / 2) / focal * np.cross(axis, up)
-               + (rows / 2 - box.box[1]) / focal * up)
+        pos, ray = self._rays(np.asarray(box.centre[0]), np.asarray(box.box[1]))
         top = pos[2] + reach * ray[2] / math.hypot(ray[0], ray[1])
         return top <= self.cfg.person_max_height_m
+
+    def _rays(self, col: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The camera position and the viewing rays (last axis x, y, z in the world; unit
+        length along the optical axis) through image points (``col``, ``row`` in pixels,
+        broadcast together), from the robot's own kinematics."""
+        pos, axis, up = self.house.robot.camera_pose()
+        rows, cols = self.bb.depth.shape
+        focal = rows / 2 / self.tan_half_vfov
+        u, v = (col - cols / 2) / focal, (rows / 2 - row) / focal
+        return pos, axis + u[..., None] * np.cross(axis, up) + v[..., None] * up
 
     def locate(self, box: Detection) -> tuple[float, float] | None:
         """Floor position of the person in ``box``: :meth:`distance` along the box centre's
