@@ -22,6 +22,7 @@ from torch import nn
 from tqdm import tqdm
 
 from app.checkpoint import atomic_torch_save, claim_run_folder
+from app.errors import UserError
 from dialogue.style_config import StyleConfig
 from dialogue.style_data import BatchSampler
 
@@ -43,10 +44,24 @@ class Run:
         self.start = time.perf_counter()
         if self.ckpt_path.exists():
             self.state = torch.load(self.ckpt_path, map_location="cpu", weights_only=True)
-            for name, net in nets.items():
-                net.load_state_dict(self.state["nets"][name])
+            self._load_nets()
             self.done = list(self.state["done"])
             self.wall_offset = float(self.state["wall_s"])
+
+    def _load_nets(self) -> None:
+        """Load every network from the checkpoint, or say why this run cannot go on."""
+        saved = self.state["nets"]
+        missing = sorted(set(self.nets) - set(saved))
+        if missing:
+            raise UserError(f"{self.ckpt_path}: holds no {', '.join(missing)} (it was written "
+                            "by an older version of this training); start a new run folder")
+        for name, net in self.nets.items():
+            try:
+                net.load_state_dict(saved[name])
+            except RuntimeError as exc:
+                raise UserError(f"{self.ckpt_path}: its {name} weights do not fit this "
+                                f"config ({str(exc).splitlines()[0]}); resume with the run's "
+                                "own config or start a new run folder") from exc
 
     def wall(self) -> float:
         """Seconds of training so far, across resumes."""

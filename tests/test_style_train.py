@@ -9,6 +9,7 @@ import json
 import pytest
 import torch
 from style_helpers import one_thread, tiny_config, write_corpus
+from torch import nn
 
 from app.errors import UserError
 from dialogue import style_cli
@@ -16,6 +17,7 @@ from dialogue.style import StyleTransfer, readable, replace_unknown
 from dialogue.style_config import load_style_config
 from dialogue.style_data import SPECIALS, Vocab
 from dialogue.style_io import StyleModelError
+from dialogue.style_loop import Run
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -177,3 +179,11 @@ def test_cli_eval_json(trained, capsys):
     assert {"accuracy", "self_bleu", "perplexity", "classifier_accuracy"} <= set(result)
     assert result["sentences"] == 20 and 0 <= result["accuracy"] <= 1
     assert "Table 4.5" in (trained / "eval" / "examples.md").read_text()
+
+
+def test_resuming_a_checkpoint_of_other_networks_names_the_problem(tmp_path):
+    Run(None, tmp_path, {"a": nn.Linear(2, 2)}, resume=False, progress=False).save(None)
+    with pytest.raises(UserError, match="holds no b"):
+        Run(None, tmp_path, {"a": nn.Linear(2, 2), "b": nn.Linear(2, 2)}, True, False)
+    with pytest.raises(UserError, match="a weights do not fit"):
+        Run(None, tmp_path, {"a": nn.Linear(3, 3)}, resume=True, progress=False)
