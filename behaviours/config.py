@@ -20,13 +20,17 @@ class PidGains(StrictModel):
 
 
 class PerceptionConfig(StrictModel):
-    """How camera detections become the human-present stimulus."""
+    """Camera rates, which person boxes count, how far away their person is (the depth
+    image) and how detections become the human-present stimulus."""
 
     tracking_rate: float = Field(gt=0, le=30)
     centring_rate: float = Field(gt=0, le=30)
-    present_min_height_px: PositiveInt
-    present_hold_s: float = Field(ge=0)
     min_conf: float = Field(gt=0, lt=1)
+    depth_window: tuple[float, tuple[float, float]]
+    depth_percentile: float = Field(ge=0, le=100)
+    person_max_height_m: PositiveFloat
+    present_max_distance_m: PositiveFloat
+    present_hold_s: float = Field(ge=0)
 
 
 class PidConfig(StrictModel):
@@ -76,9 +80,6 @@ class FindPeopleConfig(StrictModel):
     escape_side_s: PositiveFloat
     target_distance_m: PositiveFloat
     distance_tolerance_m: PositiveFloat
-    depth_window: tuple[float, tuple[float, float]]
-    depth_percentile: float = Field(ge=0, le=100)
-    person_max_height_m: PositiveFloat
     bottom_margin_px: NonNegativeInt
     keep_conf: float = Field(gt=0, lt=1)
     keep_gap_deg: PositiveFloat

@@ -5,9 +5,9 @@
   emotion colours the mood for ``emotion_hold_s``;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``) go through the
-  detector; a person box at least
-  ``present_min_height_px`` tall makes the human-present stimulus, held ``present_hold_s``
-  after the last one;
+  detector; a plausible person box whose person is at most ``present_max_distance_m``
+  away in the depth image makes the human-present stimulus, held ``present_hold_s`` after
+  the last one;
 - the motor temperature model gives the overheat stimulus.
 """
 
@@ -18,7 +18,9 @@ from py_trees.common import Status
 
 from app.world import EmotionEvent, EncourageEvent, SayEvent
 from behaviours.context import Household
+from behaviours.person_range import PersonRange
 from behaviours.skill import HouseholdBehaviour, people_in_view
+from perception.detector import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
 
@@ -37,6 +39,7 @@ class Sense(HouseholdBehaviour):
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
+        self.range = PersonRange(house.robot, house.config.perception)
 
     def _social(self) -> None:
         cfg = self.house.config
@@ -69,8 +72,15 @@ class Sense(HouseholdBehaviour):
         detections = house.detector.detect(frame) if house.detector is not None else []
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
-        if any(d.height >= cfg.present_min_height_px for d in people_in_view(house, detections)):
+        if any(self._in_front(d) for d in people_in_view(house, detections)):
             self._present_until = self.now + cfg.present_hold_s
+
+    def _in_front(self, box: Detection) -> bool:
+        """Whether the person in ``box`` is a plausible one within the present distance."""
+        depth = self.bb.depth
+        reach = self.range.distance(depth, box)
+        return (reach is not None and reach <= self.house.config.perception.present_max_distance_m
+                and self.range.plausible(depth, box, reach))
 
     def update(self) -> Status:
         self._social()

@@ -12,6 +12,8 @@ from app.scenario import Placement, Start, load_scenario
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_household
 from behaviours.harness import run_skill
+from behaviours.sense import Sense
+from behaviours.skill import people_in_view
 from behaviours.skills import find_people
 from behaviours.skills.box_steering import has_face
 from perception.detector import Detection, YoloDetector
@@ -178,3 +180,19 @@ def test_face_must_lie_in_the_upper_part_of_the_person_box():
     assert has_face(person, [person, high], region=0.4, min_conf=0.4)
     assert not has_face(person, [person, low], region=0.4, min_conf=0.4)
     assert not has_face(person, [person, high], region=0.4, min_conf=0.9)
+
+
+@pytest.mark.parametrize(("pose", "distance", "present"), [
+    ("sitting", 3.2, True), ("standing", 3.2, True), ("standing", 4.6, False)])
+def test_human_present_counts_people_near_by_their_depth(detector, pose, distance, present):
+    # ``distance``: between the robot's and Tom's centres (his front is 0.1-0.2 m nearer).
+    # The old rule (a box at least 70 px tall) counted all three; by depth the farthest is
+    # beyond conversation distance.
+    person = Start(x=0.6, y=2.0, yaw=0.0, pose=pose)
+    robot = Placement(x=0.6 + distance, y=2.0, yaw=180.0)
+    with Simulation(living_room(robot, person)) as sim:
+        house = make_household(sim, None, detector)
+        sense = Sense(house)
+        sense.tick_once()
+        assert people_in_view(house, py_trees.blackboard.Blackboard.get("/detections"))
+        assert py_trees.blackboard.Blackboard.get("/stimuli")[1] == float(present)

@@ -7,13 +7,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import py_trees
 from py_trees.common import Status
 from simple_pid import PID
 
 from behaviours.config import FindPeopleConfig, PidGains
 from behaviours.context import Household
+from behaviours.person_range import PersonRange
 from behaviours.skill import HouseholdBehaviour
 from perception.detector import Detection
 
@@ -53,9 +53,8 @@ class BoxSteering(HouseholdBehaviour):
         self.cfg: FindPeopleConfig = house.config.find_people
         base = house.robot.cfg.base
         self.heading = make_pid(self.cfg.heading_pid, base.max_angular_speed)
-        cam = house.robot.cfg.camera
-        self.tan_half_vfov = math.tan(math.radians(cam.fov_deg) / 2)
-        self.tan_half_hfov = 4 / 3 * self.tan_half_vfov
+        self.range = PersonRange(house.robot, house.config.perception)
+        self.tan_half_hfov = 4 / 3 * self.range.tan_half_vfov
         self.period = 1.0 / rate
         self.hold_s = HOLD_PERIODS * self.period if hold_s is None else hold_s
         self._frame_t = -math.inf
@@ -97,49 +96,9 @@ class BoxSteering(HouseholdBehaviour):
         return -math.atan(self.offset(box) * self.tan_half_hfov)
 
     def distance(self, box: Detection) -> float | None:
-        """Floor distance (m) from the base to the nearest surface of the person in ``box``,
-        from the depth image: the ``depth_percentile`` of the floor distances of the pixels
-        in the box's torso window (``depth_window``: a middle share of its columns, a band of
-        its rows below the head; background seen past the body lies farther and drops out).
-        The camera pose comes from the robot's own kinematics. None without valid depth."""
-        depth = self.bb.depth
-        rows, cols = depth.shape
-        x0, y0, x1, y1 = box.box
-        share, (top, bottom) = self.cfg.depth_window
-        half = share * (x1 - x0) / 2
-        c0, c1 = int(max(0, box.centre[0] - half)), int(min(cols, box.centre[0] + half + 1))
-        r0, r1 = int(max(0, y0 + top * (y1 - y0))), int(min(rows, y0 + bottom * (y1 - y0) + 1))
-        z = depth[r0:r1, c0:c1]
-        valid = z < self.house.robot.cfg.camera.far * 0.99
-        if not valid.any():
-            return None
-        pos, rays = self._rays(np.arange(c0, c1)[None, :] + 0.5, np.arange(r0, r1)[:, None] + 0.5)
-        points = pos[:2] + z[..., None] * rays[..., :2]
-        base = np.asarray(self.house.robot.pose()[:2])
-        return float(np.percentile(np.linalg.norm(points - base, axis=-1)[valid],
-                                   self.cfg.depth_percentile))
-
-    def plausible(self, box: Detection) -> bool:
-        """Whether the box can hold a person: the top edge's ray, at the box's
-        :meth:`distance`, stays below ``person_max_height_m``. A false positive on a wall or
-        a cupboard fills the frame's height from farther away than any person could. A box
-        cut off by the frame's top, or without depth, passes."""
-        reach = self.distance(box)
-        if reach is None or box.box[1] <= 1:
-            return True
-        pos, ray = self._rays(np.asarray(box.centre[0]), np.asarray(box.box[1]))
-        top = pos[2] + reach * ray[2] / math.hypot(ray[0], ray[1])
-        return top <= self.cfg.person_max_height_m
-
-    def _rays(self, col: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The camera position and the viewing rays (last axis x, y, z in the world; unit
-        length along the optical axis) through image points (``col``, ``row`` in pixels,
-        broadcast together), from the robot's own kinematics."""
-        pos, axis, up = self.house.robot.camera_pose()
-        rows, cols = self.bb.depth.shape
-        focal = rows / 2 / self.tan_half_vfov
-        u, v = (col - cols / 2) / focal, (rows / 2 - row) / focal
-        return pos, axis + u[..., None] * np.cross(axis, up) + v[..., None] * up
+        """Floor distance (m) to the person in ``box`` in the current depth frame
+        (:meth:`PersonRange.distance`), or None."""
+        return self.range.distance(self.bb.depth, box)
 
     def locate(self, box: Detection) -> tuple[float, float] | None:
         """Floor position of the person in ``box``: :meth:`distance` along the box centre's
@@ -183,7 +142,7 @@ class BoxSteering(HouseholdBehaviour):
                  and (d.conf >= self.house.config.perception.min_conf
                       or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
                  and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)
-                 and self.plausible(d)]
+                 and self.range.plausible(self.bb.depth, d, self.distance(d))]
         best = max(boxes, key=score, default=None)
         if best is not None:
             self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1
