@@ -356,10 +356,14 @@ class Robot:
     def posture_reached(self) -> bool:
         """True once every joint's ramp has ended and its measured angle is within
         ``position_tolerance`` of its target (the posture or the move_joints targets)."""
-        if not np.array_equal(self._setpoint, self._target):
-            return False
-        measured = np.array(list(self.joint_positions().values()))
-        return bool(np.all(np.abs(measured - self._target) <= self.cfg.joints.position_tolerance))
+        return np.array_equal(self._setpoint, self._target) and not self.joints_off_target()
+
+    def joints_off_target(self) -> dict[str, float]:
+        """The joints whose measured angle is farther than ``position_tolerance`` from
+        their target, with that error (rad, measured - target)."""
+        error = np.array(list(self.joint_positions().values())) - self._target
+        return {name: round(float(e), 3) for name, e in zip(JOINT_NAMES, error, strict=True)
+                if abs(e) > self.cfg.joints.position_tolerance}
 
     def _advance_joints(self, dt: float) -> None:
         """Move the set-points along their ramps and command the motors to follow."""

@@ -119,6 +119,18 @@ def test_crouch_reaches_rest_angles_and_lowers_the_camera(world):
         robot.set_posture("Handstand")
 
 
+def test_a_blocked_arm_is_named_off_target(world):
+    robot = Robot(world)
+    add_box(world, (0.32, -0.2, 0.95), (0.04, 0.2, 0.3))   # a shelf in front of the right arm
+    run(world, robot, 0.5)
+    assert robot.posture_reached() and robot.joints_off_target() == {}
+    robot.move_joints({"RShoulderPitch": -0.5}, 1.0)          # raise it forwards, into the shelf
+    run(world, robot, 3.0)
+    assert not robot.posture_reached()
+    off = robot.joints_off_target()
+    assert list(off) == ["RShoulderPitch"] and off["RShoulderPitch"] > 0.5
+
+
 def test_move_joints_respects_speed_and_limits(world):
     robot = Robot(world)
     vmax = dict(zip(JOINT_NAMES, robot.max_velocity, strict=True))

@@ -16,7 +16,8 @@ STAND = "Stand"
 
 class GoToPosture(HouseholdBehaviour):
     """Command a posture of robot.yaml; SUCCESS once it is reached, FAILURE (and a
-    ``posture_timeout`` event) if that takes longer than ``timeout_s``."""
+    ``posture_timeout`` event naming the joints still off target) if that takes longer than
+    ``timeout_s``."""
 
     def __init__(self, house: Household, posture: str, speed: float | None, timeout_s: float,
                  name: str | None = None) -> None:
@@ -34,7 +35,8 @@ class GoToPosture(HouseholdBehaviour):
         if self.house.robot.posture_reached():
             return Status.SUCCESS
         if self.now >= self._deadline:
-            self.emit("posture_timeout", posture=self.posture)
+            self.emit("posture_timeout", posture=self.posture,
+                      off_target=self.house.robot.joints_off_target())
             return Status.FAILURE
         return Status.RUNNING
 
