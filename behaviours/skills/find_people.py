@@ -39,7 +39,8 @@ class ApproachPerson(BoxSteering):
     face count is short ``face_wait_s`` after the robot came near, it circles the person
     to see their front; a person whose face still has not shown (their back is turned, or
     it is no person), or a near box without a face that keeps vanishing, is ignored for
-    ``ignore_s``. FAILURE after ``timeout_s``."""
+    ``ignore_s``: boxes towards where they stand, in this run and the skill's next ones.
+    FAILURE after ``timeout_s``."""
 
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
         super().__init__(name, house, house.config.perception.tracking_rate)
@@ -48,8 +49,11 @@ class ApproachPerson(BoxSteering):
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
-        self._ignored: dict[float, float] = {}   # world heading (rad) -> ignored until (s)
+        # floor spot of a person given up on -> ignored until (s); kept across runs of the
+        # skill, so that the next attempt looks for someone else
+        self._ignored: dict[tuple[float, float], float] = {}
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
+        self._spot: tuple[float, float] | None = None   # where the followed person stands
         self.detour = Detour(house)
         self._detours = 0                        # detours taken for the followed person
 
@@ -60,7 +64,7 @@ class ApproachPerson(BoxSteering):
         self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
         self._side, self._escape_start = 1.0, -math.inf
-        self._ignored, self._vanished = {}, {}
+        self._vanished, self._spot = {}, None
         self.detour.cancel()
         self._detours = 0
 
@@ -72,14 +76,17 @@ class ApproachPerson(BoxSteering):
         if fresh is None:
             return Status.RUNNING
         detections, dt = fresh
-        self._ignored = {h: t for h, t in self._ignored.items() if t > self.now}
+        self._ignored = {s: t for s, t in self._ignored.items() if t > self.now}
         if self.detour.active:
             return self._drive_detour()
-        person = self.follow(detections, tuple(self._ignored))
+        x, y, _ = self.house.robot.pose()
+        person = self.follow(detections, tuple(math.atan2(sy - y, sx - x)
+                                               for sx, sy in self._ignored))
         if person is None or self.hits < self.cfg.confirm_frames:
             self._search()
             return Status.RUNNING
         self._seen = self.now
+        self._spot = self.locate(person) or self._spot
         return self._steer(person, detections, dt)
 
     def _search(self) -> None:
@@ -94,6 +101,7 @@ class ApproachPerson(BoxSteering):
             if math.isfinite(self._close_since) and self._faces < self.cfg.face_frames:
                 self._count_vanished()
             self._detours = 0
+            self._spot = None
             self.forget()
             self.heading.reset()
             self.approach.reset()
@@ -183,7 +191,7 @@ class ApproachPerson(BoxSteering):
         if count < self.cfg.vanish_strikes:
             self._vanished[self._track] = count
             return
-        self._ignored[self._track] = self.now + self.cfg.ignore_s
+        self._ignore(self._track)
         self.emit("no_face", bearing_deg=round(math.degrees(math.remainder(
             self._track - self.house.robot.pose()[2], math.tau)), 2),
             face_frames=self._faces, vanished=count)
@@ -194,11 +202,19 @@ class ApproachPerson(BoxSteering):
         robot circles the person at the target distance."""
         return 1.0 if waited < self.cfg.face_wait_s + self.cfg.orbit_s else -1.0
 
+    def _ignore(self, heading: float) -> None:
+        """Ignore the followed person's spot (or, not located, a spot 1 m along their world
+        ``heading``) for ``ignore_s``."""
+        x, y, _ = self.house.robot.pose()
+        spot = self._spot or (x + math.cos(heading), y + math.sin(heading))
+        self._ignored[spot] = self.now + self.cfg.ignore_s
+        self._spot = None
+
     def _give_up(self, person: Detection) -> None:
-        """The person close by has not shown their face: ignore their direction for
+        """The person close by has not shown their face: ignore where they are for
         ``ignore_s`` and search on."""
         bearing = self.bearing(person)
-        self._ignored[self.house.robot.pose()[2] + bearing] = self.now + self.cfg.ignore_s
+        self._ignore(self.house.robot.pose()[2] + bearing)
         self.emit("no_face", bearing_deg=round(math.degrees(bearing), 2), face_frames=self._faces)
         self.forget()
         self._seen = self._close_since = self._near_since = -math.inf
