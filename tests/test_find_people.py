@@ -124,7 +124,8 @@ def test_a_person_showing_their_back_is_not_greeted(detector):
         skill.parent = None
         status, _ = run_skill(sim, house, skill, "find_people", 25.0)
     assert status == Status.FAILURE
-    assert len(house.events.of_kind("no_face")) == 1 and len(house.events.of_kind("find_failed")) == 2
+    assert len(house.events.of_kind("no_face")) == 1
+    assert len(house.events.of_kind("find_failed")) == 2
     assert not house.events.of_kind("person_found") and not house.events.of_kind("say")
 
 
