@@ -4,8 +4,10 @@
 draws ``n * decode.oversample`` latent codes from the prior (uniform categories, or N(0, I)
 for the Gaussian ablation), decodes one question per code (greedy words by default), drops
 those the generator itself finds unlikely (mean log-probability per word below
-``decode.min_logprob``) and returns up to ``n`` distinct questions, best first: most often
-decoded first, ties broken by the mean log-probability.
+``decode.min_logprob``) and, with ``decode.fact_check``, those whose meaning the fact
+verifier (perception/vqg_verify.py) finds unlikely in the frame (below
+``decode.min_fact_prob``), and returns up to ``n`` distinct questions, best first: most
+often decoded first, ties broken by the mean log-probability.
 
 A model file (``assets/models/vqg.pt``) stores the vocabulary, the model config, the input
 size and the weights in fp16; it loads with ``weights_only=True``. Decoding settings are
@@ -33,6 +35,7 @@ from perception.vqg_config import (
     load_vqg_config,
 )
 from perception.vqg_model import VqgModel
+from perception.vqg_verify import FactVerifier
 from perception.vqg_vocab import prepare_frame
 
 FORMAT = "companion-vqg-1"
@@ -61,9 +64,11 @@ class VqgQuestionGenerator:
     """
 
     def __init__(self, model: VqgModel, vocab: Vocab, size: tuple[int, int],
-                 decode: DecodeConfig, meta: dict | None = None, seed: int = 0) -> None:
+                 decode: DecodeConfig, meta: dict | None = None, seed: int = 0,
+                 verifier: FactVerifier | None = None) -> None:
         self.model, self.vocab, self.size, self.decode = model, vocab, size, decode
         self.meta = meta or {}
+        self.verifier = verifier
         self.gen = torch.Generator().manual_seed(seed)
 
     @classmethod
@@ -71,7 +76,8 @@ class VqgQuestionGenerator:
              decode: DecodeConfig | None = None) -> VqgQuestionGenerator:
         """Load a model file; a missing or broken one raises :class:`VqgModelError`.
 
-        Decoding follows ``decode``, by default ``decode`` of ``app/defaults/vqg.yaml``."""
+        Decoding follows ``decode``, by default ``decode`` of ``app/defaults/vqg.yaml``;
+        with its ``fact_check`` the fact verifier is loaded too."""
         path = Path(path)
         blob = read_weights(path, VqgModelError, "train one with `companion train vqg`")
         if not isinstance(blob, dict) or blob.get("format") != FORMAT:
@@ -84,8 +90,11 @@ class VqgQuestionGenerator:
                                    for k, v in blob["state_dict"].items()})
         except Exception as exc:
             raise VqgModelError(f"{path}: invalid VQG model file ({exc})") from None
-        return cls(model.eval(), vocab, (width, height), decode or load_vqg_config().decode,
-                   blob.get("meta"), seed)
+        decode = decode or load_vqg_config().decode
+        checker = decode.verifier_path()
+        verifier = None if checker is None else FactVerifier.load(checker, VqgModelError)
+        return cls(model.eval(), vocab, (width, height), decode, blob.get("meta"), seed,
+                   verifier)
 
     def image_input(self, frame: np.ndarray) -> torch.Tensor:
         """An RGB frame as the model's uint8 input ``(3, H, W)``."""
@@ -108,14 +117,22 @@ class VqgQuestionGenerator:
     def questions(self, image: torch.Tensor, k: int) -> list[str]:
         """The distinct questions decoded from ``k`` latent codes, best first (most often
         decoded, then most probable). The confidence check drops questions whose mean
-        log-probability per word is below ``decode.min_logprob``."""
+        log-probability per word is below ``decode.min_logprob``, the fact check (when a
+        verifier is loaded) those whose meaning is a fact it rates below
+        ``decode.min_fact_prob`` in this image."""
         drawn = [(q, lp) for q, lp in self.sample(image, k)
                  if q and lp >= self.decode.min_logprob]
         counts = Counter(q for q, _ in drawn)
         best: dict[str, float] = {}
         for q, lp in drawn:
             best[q] = max(lp, best.get(q, -np.inf))
-        return sorted(counts, key=lambda q: (-counts[q], -best[q]))
+        ranked = sorted(counts, key=lambda q: (-counts[q], -best[q]))
+        if self.verifier is None:
+            return ranked
+        with torch_threads(1):
+            probs = self.verifier.plausibility(image, ranked)
+        return [q for q, p in zip(ranked, probs, strict=True)
+                if p is None or p >= self.decode.min_fact_prob]
 
     def ask(self, frame: np.ndarray, n: int) -> list[str]:
         """Up to ``n`` distinct questions about the RGB frame, best first."""

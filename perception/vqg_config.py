@@ -14,6 +14,7 @@ from pydantic import Field, PositiveInt, model_validator
 from app.config import StrictModel, load_model
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_VERIFIER = REPO_ROOT / "assets" / "models" / "vqg_verifier.pt"  # perception/vqg_verify.py
 ABLATIONS = ("no_d1", "no_d2", "gaussian")
 
 
@@ -115,13 +116,24 @@ class TrainConfig(StrictModel):
 
 
 class DecodeConfig(StrictModel):
-    """Inference: latents drawn per requested question, greedy or sampled words."""
+    """Inference: latents drawn per requested question, greedy or sampled words, and the
+    two checks on what was decoded (the generator's confidence, the fact verifier)."""
 
     oversample: PositiveInt
     greedy: bool
     temperature: float = Field(gt=0)
     max_words: PositiveInt
     min_logprob: float
+    fact_check: bool
+    verifier: Path | None = None
+    min_fact_prob: float = Field(ge=0, le=1)
+
+    def verifier_path(self) -> Path | None:
+        """The fact verifier to load: ``verifier``, or the shipped one; None when
+        ``fact_check`` is off."""
+        if not self.fact_check:
+            return None
+        return DEFAULT_VERIFIER if self.verifier is None else self.verifier
 
 
 class EvalConfig(StrictModel):

@@ -142,6 +142,7 @@ def evaluate(model: Path, cfg: VqgConfig, images: int, samples: int) -> dict[str
     out["pass"] = {k: (out[k] <= v if k == "latency_ms" else out[k] >= v)
                    for k, v in bars.items() if k in out}
     out["model"] = str(model)
+    out["verifier"] = None if gen.verifier is None else str(cfg.decode.verifier_path())
     return out
 
 

@@ -44,10 +44,12 @@ from perception.vqg_model import (
 )
 from perception.vqg_questions import frame_key
 from perception.vqg_scene import load_scene
+from perception.vqg_verify import verifier_from_pretraining
 from perception.vqg_vocab import SplitData, build_vocab, load_split
 
 PHASES = ("image", "vae", "adversarial")
 IMAGE_FILE = "image_encoder.pt"  # E_I after pre-training, reusable by other runs
+VERIFIER_FILE = "vqg_verifier.pt"  # E_I and its fact columns (perception/vqg_verify.py)
 
 
 @dataclass
@@ -199,6 +201,11 @@ def phase_image(run: Run, data: Data, model: VqgModel, _: Selector) -> dict:
         val = round(bce(data.val.images, data.image_targets["val"]).item(), 4)
     atomic_torch_save({"vocab": list(data.vocab.itos), "state_dict": model.image.state_dict(),
                        "val_bce": val}, run.out_dir / IMAGE_FILE)
+    if any(n.startswith("fact:") for n in data.target_names):
+        d = run.cfg.data
+        verifier = verifier_from_pretraining(model.image, head, data.target_names,
+                                             run.cfg.model, (d.image_width, d.image_height))
+        verifier.save(run.out_dir / VERIFIER_FILE, {"val_bce": val})
     return {"image": {"val_bce": val}}
 
 

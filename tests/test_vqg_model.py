@@ -22,8 +22,10 @@ from perception.vqg import VqgModelError, VqgQuestionGenerator
 from perception.vqg_config import load_vqg_config
 from perception.vqg_facts import facts
 from perception.vqg_model import Latent, MatchDiscriminator, VqgModel
-from perception.vqg_questions import frame_key
+from perception.vqg_questions import frame_key, parse_question
 from perception.vqg_scene import PALETTE, Node, SceneGraph, load_scene
+from perception.vqg_verify import FactVerifier
+from perception.vqg_vocab import read_image
 
 KINDS = ["mug", "ball", "book", "duck"]
 COLOURS = ["red", "green", "blue", "yellow"]
@@ -35,7 +37,7 @@ train: {{image_batch: 8, image_steps: 20, image_lr: 0.01, batch_size: 16, vae_st
          adversarial_steps: {adv}, lr: 0.01, adv_lr: 0.003, disc_lr: 0.003,
          kl_warmup_steps: 20, generator_steps_per_disc: 2, log_every: 10,
          checkpoint_every: 10, eval_every: 20, select_images: 3, select_samples: 8}}
-decode: {{max_words: 8, min_logprob: -.inf}}
+decode: {{max_words: 8, min_logprob: -.inf, fact_check: false}}
 eval: {{latency_runs: 2}}
 """
 
@@ -307,7 +309,51 @@ def test_shipped_model_asks_grounded_questions_about_a_rendered_scene():
 
     # frame 1000 of the test split's seed stream: beyond the 300 frames of the data set
     rgb, graph = render_scene(np.random.SeedSequence([0, 2, 1000]))
-    questions = VqgQuestionGenerator.load().ask(rgb, 10)
+    gen = VqgQuestionGenerator.load()
+    assert gen.verifier is not None   # the shipped fact check is on by default
+    questions = gen.ask(rgb, 10)
     grounded = {q for q in questions
                 if (f := parse_question(q)) is not None and is_grounded(f, graph)}
     assert len(grounded) >= 5, questions
+
+
+# --- the fact verifier --------------------------------------------------------------------
+def test_the_fact_check_drops_questions_the_verifier_finds_unlikely(trained, data_dir):
+    cfg = load_vqg_config(trained / "tiny.yaml")
+    gen = VqgQuestionGenerator.load(trained / "vqg.pt", decode=cfg.decode)
+    image = read_image(data_dir / "images" / "test" / "000000.png", 32, 24)
+    asked = gen.questions(image, 40)
+    keys = {q: repr(frame_key(f)) for q in asked if (f := parse_question(q)) is not None}
+    assert len(set(keys.values())) >= 2, asked
+    unlikely, likely = sorted(set(keys.values()))[:2]
+    verifier = FactVerifier(cfg.model, [unlikely, likely], (32, 24))
+    with torch.no_grad():
+        verifier.head.weight.zero_()
+        verifier.head.bias.copy_(torch.tensor([-4.0, 4.0]))   # p = 0.018 and 0.982
+    probs = verifier.plausibility(image, [*asked, "not a question at all"])
+    assert probs[-1] is None
+    assert {q: p for q, p in zip(asked, probs, strict=False) if p is not None} == pytest.approx(
+        {q: 0.018 if k == unlikely else 0.982 for q, k in keys.items() if k in (unlikely, likely)},
+        abs=1e-3)
+    gen.verifier = verifier
+    checked = gen.questions(image, 40)
+    assert checked == [q for q in asked if keys.get(q) != unlikely]
+
+
+def test_a_facts_run_writes_a_verifier_of_its_fact_columns(data_dir, tmp_path):
+    cfg = load_vqg_config(tiny_config(tmp_path, data_dir, adv=0))
+    cfg = cfg.model_copy(update={"train": cfg.train.model_copy(
+        update={"image_targets": ("words", "facts"), "image_fact_min_images": 2,
+                "vae_steps": 5, "eval_every": 100})})
+    vqg_train.train(cfg, tmp_path / "run", progress=False)
+    verifier = FactVerifier.load(tmp_path / "run" / vqg_train.VERIFIER_FILE, VqgModelError)
+    names = vqg_train.prepare_data(cfg, tmp_path / "run").target_names
+    assert verifier.keys == [n[len("fact:"):] for n in names if n.startswith("fact:")]
+    encoder = torch.load(tmp_path / "run" / vqg_train.IMAGE_FILE, weights_only=True)
+    assert torch.allclose(verifier.image.trunk[0].weight,
+                          encoder["state_dict"]["trunk.0.weight"], atol=1e-3)
+    (tmp_path / "bad.pt").write_bytes(b"broken")
+    with pytest.raises(VqgModelError, match=r"bad\.pt"):
+        FactVerifier.load(tmp_path / "bad.pt", VqgModelError)
+    with pytest.raises(VqgModelError, match="not a VQG fact-verifier file"):
+        FactVerifier.load(tmp_path / "run" / vqg_train.IMAGE_FILE, VqgModelError)
