@@ -1,15 +1,16 @@
 """Simulated people: one PyBullet multibody per person, built from primitive shapes.
 
 A person is a small URDF written on the fly (so that each shape keeps its own colour):
-a pelvis base, torso, head (with hair), a separate ``face`` link (eyes, nose, mouth on the
-front of the head, so it segments apart from the body), two arms and two two-part legs.
+a pelvis base, torso, head, a ``hair`` link, a separate ``face`` link (eyes, nose, mouth on
+the front of the head, so it segments apart from the body), two arms and two two-part legs.
 The person frame has x forward (the way the face looks), y to the left and z up; its
 origin is the pelvis, between the hips. People are kinematic: they are fixed-base bodies
 that the caller moves with :meth:`Person.place` and poses with :meth:`Person.set_pose`.
 
 Segmentation: render with ``flags=pybullet.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX``;
 a pixel value ``v >= 0`` holds ``body = v & 0xFFFFFF`` and ``link = (v >> 24) - 1``, and
-the face is ``link == person.face_link`` (the pelvis is link -1).
+the eyes, nose and mouth are ``link == person.face_link``, and the whole face (those and
+the head's skin around them) is ``link in person.face_links`` (the pelvis is link -1).
 
 This module also holds the tiny URDF builder (:class:`Part`, :func:`link_xml`,
 :func:`load_urdf_text`) that ``app.world`` reuses for furniture and objects.
@@ -187,8 +188,8 @@ def _person_xml(a: Appearance, d: _Dims) -> str:
                        (0, 0, (torso_top + torso_bottom) / 2)),
                   Part("cylinder", (0.4 * r, 0.03 * h + 0.02), a.skin,
                        (0, 0, torso_top + 0.015 * h))],
-        "head": [Part("sphere", (r,), a.skin, (0, 0, head_z)),
-                 Part("sphere", (1.05 * r,), a.hair, (-0.2 * r, 0, head_z + 0.15 * r),
+        "head": [Part("sphere", (r,), a.skin, (0, 0, head_z))],
+        "hair": [Part("sphere", (1.05 * r,), a.hair, (-0.2 * r, 0, head_z + 0.15 * r),
                       collide=False)],
         "face": _face_parts(r, head_z, a.skin),
     }
@@ -210,6 +211,7 @@ def _person_xml(a: Appearance, d: _Dims) -> str:
     leg_y = d.torso_w / 4
     joints = [joint_xml("torso_joint", "pelvis", "torso", (0, 0, 0)),
               joint_xml("head_joint", "torso", "head", (0, 0, 0)),
+              joint_xml("hair_joint", "head", "hair", (0, 0, 0)),
               joint_xml("face_joint", "head", "face", (0, 0, 0))]
     for side, s in (("l", 1), ("r", -1)):
         joints += [joint_xml(f"shoulder_{side}", "torso", f"arm_{side}",
@@ -245,6 +247,12 @@ class Person:
         """Link index of the face (eyes, nose, mouth) for segmentation masks."""
         return self.links["face"]
 
+    @property
+    def face_links(self) -> tuple[int, int]:
+        """Link indices of the whole face seen from the front: the head's skin (the hair is a
+        link of its own) and the eyes, nose and mouth."""
+        return self.links["head"], self.links["face"]
+
     def _hip_height(self) -> float:
         d = self._dims
         return d.shin + d.leg_r if self.pose == "sitting" else d.thigh + d.shin
@@ -279,9 +287,9 @@ class Person:
             physicsClientId=self.client)
 
     def aabb(self) -> tuple[Vec3, Vec3]:
-        """World-axis bounding box ``(min, max)`` of the body (face excluded)."""
+        """World-axis bounding box ``(min, max)`` of the body (face and hair excluded)."""
         boxes = [p.getAABB(self.body_id, link, physicsClientId=self.client)
-                 for name, link in self.links.items() if name != "face"]
+                 for name, link in self.links.items() if name not in ("face", "hair")]
         return (tuple(min(b[0][i] for b in boxes) for i in range(3)),  # type: ignore[return-value]
                 tuple(max(b[1][i] for b in boxes) for i in range(3)))
 

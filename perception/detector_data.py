@@ -104,7 +104,7 @@ class Frame:
     boxes: list[Box]
     bodies: np.ndarray
     links: np.ndarray
-    people: list[tuple[int, int]]  # (body id, face link) of each person in the scene
+    people: list[tuple[int, tuple[int, ...]]]  # (body id, face links) of each person
 
 
 def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
@@ -226,7 +226,7 @@ class DetectorScene:
         self.robot.set_lighting(spec.light.camera_kwargs())
         p.resetJointState(self.robot.body_id, self._head_pitch, spec.head_pitch,
                           physicsClientId=self.client)
-        ids = [(q.body_id, q.face_link) for q in people]
+        ids = [(q.body_id, q.face_links) for q in people]
         try:
             rgb, bodies, links = self._render()
             boxes = self._label(spec, people, built, bodies, links)
@@ -249,7 +249,7 @@ class DetectorScene:
             for b, (pos, orn) in zip(others, poses, strict=True):
                 p.resetBasePositionAndOrientation(b, pos, orn, physicsClientId=self.client)
         mine = bodies == person.body_id
-        return int(mine.sum()), int((mine & (links == person.face_link)).sum())
+        return int(mine.sum()), int((mine & np.isin(links, person.face_links)).sum())
 
     def _label(self, spec: SceneSpec, people: list[Person], built: list[int],
                bodies: np.ndarray, links: np.ndarray) -> list[Box]:
@@ -260,7 +260,7 @@ class DetectorScene:
             mine = bodies == person.body_id
             if not mine.any():
                 continue
-            face = mine & (links == person.face_link)
+            face = mine & np.isin(links, person.face_links)
             others = [*built, *(o.body_id for o in people if o is not person)]
             alone, alone_face = self._alone(person, others)
             box = _extent(mine, 0)
