@@ -98,3 +98,13 @@ def read_weights(path: str | Path, error: type[UserError], missing_hint: str) ->
         return torch.load(path, map_location="cpu", weights_only=True)
     except Exception as exc:
         raise error(f"{path}: not a readable model file ({exc})") from None
+
+
+def fp16_state(module: torch.nn.Module) -> dict[str, torch.Tensor]:
+    """``module``'s state dict with floating-point tensors in fp16 (half the file size)."""
+    return {k: v.half() if v.is_floating_point() else v for k, v in module.state_dict().items()}
+
+
+def fp32_state(state: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
+    """A state dict written by :func:`fp16_state`, floating-point tensors back in fp32."""
+    return {k: v.float() if v.is_floating_point() else v for k, v in state.items()}

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from app.checkpoint import atomic_torch_save, read_weights
+from app.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
 from app.errors import UserError
 from dialogue.style import torch_threads
 from dialogue.style_data import Vocab
@@ -49,8 +49,7 @@ class VqgModelError(UserError):
 def save_vqg(path: Path, model: VqgModel, vocab: Vocab, cfg: VqgConfig,
              meta: dict[str, Any]) -> None:
     """Write a model file atomically; floating-point weights are stored as fp16."""
-    state = {k: v.half() if v.is_floating_point() else v
-             for k, v in model.state_dict().items()}
+    state = fp16_state(model)
     atomic_torch_save({"format": FORMAT, "vocab": list(vocab.itos),
                        "model": cfg.model.model_dump(mode="json"),
                        "input": [cfg.data.image_width, cfg.data.image_height],
@@ -86,8 +85,7 @@ class VqgQuestionGenerator:
             vocab = Vocab(blob["vocab"])
             model = VqgModel(len(vocab), ModelConfig(**blob["model"]))
             width, height = (int(v) for v in blob["input"])
-            model.load_state_dict({k: v.float() if v.is_floating_point() else v
-                                   for k, v in blob["state_dict"].items()})
+            model.load_state_dict(fp32_state(blob["state_dict"]))
         except Exception as exc:
             raise VqgModelError(f"{path}: invalid VQG model file ({exc})") from None
         decode = decode or load_vqg_config().decode

@@ -20,7 +20,7 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 from torch import nn
 
-from app.checkpoint import atomic_torch_save, read_weights
+from app.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
 from perception.vqg_config import DEFAULT_VERIFIER, ModelConfig
 from perception.vqg_model import ImageEncoder
 from perception.vqg_questions import frame_key, parse_question
@@ -63,8 +63,7 @@ class FactVerifier(nn.Module):
 
     def save(self, path: Path, meta: dict) -> None:
         """Write the verifier file atomically (weights in fp16)."""
-        state = {k: v.half() if v.is_floating_point() else v
-                 for k, v in self.state_dict().items()}
+        state = fp16_state(self)
         atomic_torch_save({"format": FORMAT, "keys": self.keys,
                            "model": self.cfg.model_dump(mode="json"), "input": list(self.size),
                            "state_dict": state, "meta": meta}, path)
@@ -80,8 +79,7 @@ class FactVerifier(nn.Module):
         try:
             width, height = (int(v) for v in blob["input"])
             verifier = cls(ModelConfig(**blob["model"]), blob["keys"], (width, height))
-            verifier.load_state_dict({k: v.float() if v.is_floating_point() else v
-                                      for k, v in blob["state_dict"].items()})
+            verifier.load_state_dict(fp32_state(blob["state_dict"]))
         except Exception as exc:
             raise error(f"{path}: invalid VQG fact-verifier file ({exc})") from None
         return verifier.eval()
