@@ -169,8 +169,9 @@ def test_discount_per_decision_or_per_time():
 def test_training_reward_adds_the_penalty_and_charges_time(cfg):
     durations = np.array([1000, 100, 30, 12])
     z = np.zeros((3, 6))
+    became_insecure = np.array([False, False, True])
     d = Decisions(np.arange(3), z, np.array([0, 3, 2]), np.array([0.5, 1.0, 0.9]), z, z,
-                  np.array([0.0, 0.0, 1.0]))
+                  became_insecure, became_insecure)
     assert np.allclose(training_reward(d, durations, cfg.train), [0.5, 1.0, 0.9])  # thesis
     tc = cfg.train.model_copy(update={"insecure_penalty": -100.0, "time_cost": 0.01})
     assert np.allclose(training_reward(d, durations, tc), [0.5 - 10, 1.0 - 0.12, 0.9 - 100.3])
@@ -220,6 +221,20 @@ def test_shipped_policy_meets_its_bar(h, cfg):
     assert results["dqn"]["mean_reward"] > results["random"]["mean_reward"]
 
 
+@pytest.mark.parametrize("start", [[0.76, 0.66, 0.80, 0.26, 0.41, 0.40],   # unavoidable
+                                   [0.95, 0.50, 0.95, 0.92, 0.30, 0.60]])  # already insecure
+def test_shipped_policy_recovers_from_insecure_states(h, cfg, start):
+    """From drives it cannot (or could not) keep below 0.9, the policy brings them back."""
+    policy = DQNPolicy.load(DEFAULT_POLICY)
+    env = VecHomeostasisEnv(h, short_env(cfg, 5000), 4, seed=7)
+    env.drives[:] = start
+    env.act(np.arange(4), policy(env.observe()))
+    while env.t[0] < 4000:
+        d = env.advance()
+        env.act(d.idx, policy(d.decide_obs))
+    assert h.secure(env.drives).all()
+
+
 def test_eval_cli_json(tmp_path, capsys):
     code = main(["eval", "policy", "--episodes", "2", "--seed", "1", "--json",
                  "--out", str(tmp_path)])
@@ -252,6 +267,29 @@ def test_input_scaling_is_an_affine_map_of_the_motivations():
     plain.load_state_dict(scaled.state_dict())
     obs = torch.rand(4, 6)
     torch.testing.assert_close(scaled(obs), plain((obs - 0.6) / 0.05))
+
+
+def test_only_the_action_that_crosses_the_threshold_counts_as_becoming_insecure(h, cfg):
+    env_cfg = short_env(cfg).model_copy(update={"terminate_on_insecure": False})
+    env = VecHomeostasisEnv(h, env_cfg, 2, seed=0)
+    env.drives[0] = [0.1, 0.1, 0.895, 0.1, 0.1, 0.1]  # belonging crosses 0.9 in 10 steps
+    env.drives[1] = [0.1, 0.1, 0.95, 0.1, 0.1, 0.1]   # already insecure
+    env.act(np.arange(2), np.array([STAND_BY, STAND_BY]))
+    d = env.advance()
+    np.testing.assert_array_equal(d.became_insecure, [True, False])
+    assert not d.terminal.any()  # these episodes go on
+
+
+def test_demonstrations_can_go_on_past_insecurity(h, cfg):
+    env_cfg = short_env(cfg, 3000).model_copy(update={"terminate_on_insecure": True})
+    tc = cfg.train.model_copy(update={"num_envs": 16, "demo_transitions": 3000})
+    plain = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward)
+    tc = tc.model_copy(update={"demo_past_insecure": True, "demo_initial_drives": (0.0, 1.0)})
+    demos = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward)
+    assert not (~h.secure(plain.obs)).any()
+    assert (~h.secure(demos.obs)).mean() > 0.005  # the rule is shown recovering from 0.9
+    np.testing.assert_array_equal(demos.action, HomeostaticRule(h)(demos.obs))
+    assert 0 < demos.terminal.sum() < len(demos.terminal)  # crossing 0.9 ends the learning
 
 
 def test_pretraining_on_demonstrations_imitates_the_rule(h, cfg, tmp_path):

@@ -89,9 +89,12 @@ class TrainConfig(StrictModel):
     select_rsr: float = Field(ge=0, le=1)
     demo_transitions: int = Field(default=0, ge=0)
     demo_seed: int = 200000
+    demo_past_insecure: bool = False
+    demo_initial_drives: tuple[float, float] | None = None
     demo_pretrain_updates: int = Field(default=0, ge=0)
     demo_share: float = Field(default=0.25, ge=0, le=1)
     demo_weight: float = Field(default=1.0, ge=0)
+    demo_weight_rl: float | None = Field(default=None, ge=0)
     demo_margin: float = Field(default=0.8, ge=0)
 
 

@@ -26,7 +26,14 @@ from app.policy.replay import ReplayBuffer
 def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: TrainConfig,
                            reward_fn: Callable[[Decisions], np.ndarray]) -> ReplayBuffer:
     """``tc.demo_transitions`` transitions of the homeostatic rule in ``tc.num_envs`` training
-    episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward."""
+    episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward.
+    With ``tc.demo_past_insecure`` those episodes do not end when a drive reaches the secure
+    threshold, and ``tc.demo_initial_drives`` may start them higher than the DQN's own, so
+    that the memory also shows the rule bringing drives back from there."""
+    if tc.demo_past_insecure:
+        env_cfg = env_cfg.model_copy(update={"terminate_on_insecure": False})
+    if tc.demo_initial_drives is not None:
+        env_cfg = env_cfg.model_copy(update={"initial_drives": tc.demo_initial_drives})
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)
     rule = HomeostaticRule(homeostasis)
     memory = ReplayBuffer(tc.demo_transitions, len(MOTIVATIONS))
@@ -34,7 +41,9 @@ def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: Tra
     env.act(every, rule(env.observe(every)))
     while memory.size < tc.demo_transitions:
         d = env.advance()
-        memory.add(d.obs, d.action, reward_fn(d), d.next_obs, d.terminal)
+        # becoming insecure ends what the DQN learns from (as in its own episodes), even
+        # where the demonstration goes on from there
+        memory.add(d.obs, d.action, reward_fn(d), d.next_obs, d.terminal | d.became_insecure)
         env.act(d.idx, rule(d.decide_obs))
     return memory
 

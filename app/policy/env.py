@@ -31,6 +31,8 @@ class Decisions:
     next_obs: np.ndarray      # motivations now (bootstrap target)
     decide_obs: np.ndarray    # motivations to decide on: next_obs, or a fresh episode's start
     terminal: np.ndarray      # the robot became insecure during the action (when terminating)
+    became_insecure: np.ndarray  # secure when the action began, a drive reached the secure
+                                 # threshold during it
     ended: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     episodes: list[dict] = field(default_factory=list)  # stats of those envs' episodes
 
@@ -71,6 +73,7 @@ class VecHomeostasisEnv:
         self.t = np.zeros(n, dtype=np.int64)
         self.secure_steps = np.zeros(n, dtype=np.int64)
         self.insecure_in_action = np.zeros(n, dtype=bool)
+        self.secure_at_choice = np.ones(n, dtype=bool)
         self.high_steps = np.zeros((n, len(DRIVES)), dtype=np.int64)
         self.ep_return = np.zeros(n)
         self.ep_actions = np.zeros((n, len(ACTIONS)), dtype=np.int64)
@@ -111,6 +114,7 @@ class VecHomeostasisEnv:
         self.action[idx] = actions
         self.remaining[idx] = self.h.duration[actions]
         self.insecure_in_action[idx] = False
+        self.secure_at_choice[idx] = self.h.secure(self.drives[idx])
         self.ep_actions[idx, actions] += 1
 
     # -- dynamics -------------------------------------------------------------------------
@@ -164,9 +168,10 @@ class VecHomeostasisEnv:
         action = self.action[idx].copy()
         reward = self.h.reward(action, self.obs_at_choice[idx], next_obs)
         self.ep_return[idx] += reward
-        terminal = self.insecure_in_action[idx] & self.cfg.terminate_on_insecure
+        insecure = self.insecure_in_action[idx]
+        terminal = insecure & self.cfg.terminate_on_insecure
         out = Decisions(idx, self.obs_at_choice[idx].copy(), action, reward, next_obs,
-                        next_obs.copy(), terminal)
+                        next_obs.copy(), terminal, insecure & self.secure_at_choice[idx])
         ended = idx[(self.t[idx] >= self.cfg.episode_steps) | terminal]
         if len(ended):
             out.ended = ended
@@ -176,7 +181,8 @@ class VecHomeostasisEnv:
         return out
 
     STATE = ("drives", "human", "heat", "encouraged_for", "action", "remaining", "obs_at_choice",
-             "t", "secure_steps", "insecure_in_action", "high_steps", "ep_return", "ep_actions")
+             "t", "secure_steps", "insecure_in_action", "secure_at_choice", "high_steps",
+             "ep_return", "ep_actions")
 
     def state_dict(self) -> dict:
         """Everything needed to continue these episodes exactly (arrays and the RNG)."""

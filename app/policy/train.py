@@ -58,10 +58,11 @@ def action_discounts(gamma: float, durations: np.ndarray, gamma_steps: int | Non
 
 def training_reward(d: Decisions, durations: np.ndarray, tc: TrainConfig) -> np.ndarray:
     """The reward a transition is stored with: eq. 3.7's, plus ``insecure_penalty`` where
-    the robot became insecure, minus ``time_cost`` per step the action took (an
-    average-reward baseline: over a fixed stretch of time it subtracts the same total from
-    every policy, but a per-decision learner then sees what a long action costs)."""
-    return (d.reward + tc.insecure_penalty * d.terminal
+    the robot became insecure during the action, minus ``time_cost``
+    per step the action took (an average-reward baseline: over a fixed stretch of time it
+    subtracts the same total from every policy, but a per-decision learner then sees what a
+    long action costs)."""
+    return (d.reward + tc.insecure_penalty * d.became_insecure
             - tc.time_cost * durations[d.action])
 
 
@@ -210,7 +211,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                                               tc.total_transitions, transitions)
         batch, n_demo = sample_batch(memory, demos, rng, tc, pretraining)
         dqn_update(q, target, optimizer, batch, discounts, tc.max_grad_norm, n_demo,
-                   tc.demo_weight, tc.demo_margin)
+                   tc.demo_weight if pretraining or tc.demo_weight_rl is None
+                   else tc.demo_weight_rl, tc.demo_margin)
         updates += 1
         if updates % tc.target_sync_updates == 0:
             target.load_state_dict(q.state_dict())
