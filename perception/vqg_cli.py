@@ -59,6 +59,8 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to evaluate")
     p.add_argument("--images", type=int, help="test images (default eval.images: 50)")
+    p.add_argument("--split", choices=["test", "val"], default="test",
+                   help="score these images (val: to tune decode settings, default test)")
     p.add_argument("--samples", type=int, help="latent samples per image (default 100)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-eval"),
@@ -145,7 +147,7 @@ def run_eval(args: argparse.Namespace) -> int:
                              progress=not args.no_progress, image_from=args.image_from)
         print(json.dumps(rows) if args.json else format_table(rows))
         return 0
-    result = evaluate(args.model, cfg, images, samples)
+    result = evaluate(args.model, cfg, images, samples, args.split)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "metrics.json").write_text(json.dumps(result, indent=2))
     if args.json:

@@ -129,19 +129,21 @@ def latency_ms(gen: VqgQuestionGenerator, frame: np.ndarray, n: int, runs: int) 
     return statistics.median(times)
 
 
-def evaluate(model: Path, cfg: VqgConfig, images: int, samples: int) -> dict[str, Any]:
-    """All metrics of the module docstring on the test split, with the bars checked."""
+def evaluate(model: Path, cfg: VqgConfig, images: int, samples: int,
+             split: str = "test") -> dict[str, Any]:
+    """All metrics of the module docstring on ``split`` (the held-out test images; "val"
+    to tune decoding settings without looking at them), with the bars checked."""
     gen = VqgQuestionGenerator.load(model, seed=cfg.train.seed, decode=cfg.decode)
-    items = load_items(cfg, "test", images)
+    items = load_items(cfg, split, images)
     if not items:
-        raise VqgDataError(f"{cfg.data.resolved_dir()}: the test split has no images")
+        raise VqgDataError(f"{cfg.data.resolved_dir()}: the {split} split has no images")
     out = question_metrics(gen, items, samples)
     frame = cv2.imread(str(items[0].path), cv2.IMREAD_COLOR)[..., ::-1].copy()
     out["latency_ms"] = latency_ms(gen, frame, cfg.eval.latency_n, cfg.eval.latency_runs)
     bars = cfg.eval.bars
     out["pass"] = {k: (out[k] <= v if k == "latency_ms" else out[k] >= v)
                    for k, v in bars.items() if k in out}
-    out["model"] = str(model)
+    out["model"], out["split"] = str(model), split
     out["verifier"] = None if gen.verifier is None else str(cfg.decode.verifier_path())
     return out
 

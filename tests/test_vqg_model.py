@@ -281,12 +281,15 @@ def test_missing_and_corrupt_model_files_are_user_errors(tmp_path):
 def test_eval_and_ask_commands(trained, data_dir, capsys):
     args = argparse.Namespace(config=trained / "tiny.yaml", data=None, model=trained / "vqg.pt",
                               images=3, samples=10, json=True, out=trained / "eval",
-                              ablations=None, no_progress=True, image_from=None)
+                              ablations=None, no_progress=True, image_from=None, split="test")
     assert vqg_cli.run_eval(args) == 0
     result = json.loads(capsys.readouterr().out)
     for key in ("distinct_per_image", "dm", "ri", "rs", "bleu", "latency_ms"):
         assert key in result
     assert 1 <= result["distinct_per_image"] <= 10 and 0 <= result["ri"] <= 1
+    assert result["split"] == "test"
+    assert vqg_cli.run_eval(argparse.Namespace(**{**vars(args), "split": "val"})) == 0
+    assert json.loads(capsys.readouterr().out)["split"] == "val"
     ask = argparse.Namespace(image=data_dir / "images" / "val" / "000001.png", n=3,
                              model=trained / "vqg.pt", seed=0, config=trained / "tiny.yaml")
     assert vqg_cli.run_ask(ask) == 0
@@ -320,7 +323,8 @@ def test_shipped_model_asks_grounded_questions_about_a_rendered_scene():
 # --- the fact verifier --------------------------------------------------------------------
 def test_the_fact_check_drops_questions_the_verifier_finds_unlikely(trained, data_dir):
     cfg = load_vqg_config(trained / "tiny.yaml")
-    gen = VqgQuestionGenerator.load(trained / "vqg.pt", decode=cfg.decode)
+    greedy = cfg.decode.model_copy(update={"greedy": True})  # the same questions each call
+    gen = VqgQuestionGenerator.load(trained / "vqg.pt", decode=greedy)
     image = read_image(data_dir / "images" / "test" / "000000.png", 32, 24)
     asked = gen.questions(image, 40)
     keys = {q: repr(frame_key(f)) for q in asked if (f := parse_question(q)) is not None}
