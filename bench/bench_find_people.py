@@ -17,9 +17,12 @@ above the frame, whom the robot must back off from before it can see their face.
 about the camera's height, so the box height no longer tells the distance; the depth image
 does.
 
+``--facing DEG`` turns Tom within +-DEG (default 60) of facing the robot's start instead:
+90 makes many trials side-on, like residents who face a table or the television.
+
 Usage: python bench/bench_find_people.py [--trials 100] [--seed 0] [--close]
-                                         [--pose standing|sitting] [--weights PATH]
-                                         [--json PATH]
+                                         [--pose standing|sitting] [--facing DEG]
+                                         [--weights PATH] [--json PATH]
 """
 
 from __future__ import annotations
@@ -87,16 +90,16 @@ def free_spot(scenario: Scenario, blocked: list[Footprint], rng: np.random.Gener
             return float(x), float(y)
 
 
-def placement(scenario: Scenario, blocked: list[Footprint], rng: np.random.Generator
-              ) -> tuple[Placement, Start]:
+def placement(scenario: Scenario, blocked: list[Footprint], rng: np.random.Generator,
+              facing_deg: float = FACING_DEG) -> tuple[Placement, Start]:
     """A random free robot pose and a person spot at least MIN_SEPARATION_M away, the
-    person facing the robot within +-FACING_DEG."""
+    person facing the robot within +-``facing_deg``."""
     rx, ry = free_spot(scenario, blocked, rng, ROBOT_CLEARANCE_M)
     while True:
         px, py = free_spot(scenario, blocked, rng, PERSON_CLEARANCE_M)
         if math.hypot(px - rx, py - ry) >= MIN_SEPARATION_M:
             break
-    facing = math.degrees(math.atan2(ry - py, rx - px)) + rng.uniform(-FACING_DEG, FACING_DEG)
+    facing = math.degrees(math.atan2(ry - py, rx - px)) + rng.uniform(-facing_deg, facing_deg)
     return (Placement(x=rx, y=ry, yaw=float(rng.uniform(-180.0, 180.0))),
             Start(x=px, y=py, yaw=float(facing), pose="standing"))
 
@@ -211,6 +214,8 @@ def main() -> None:
     parser.add_argument("--close", action="store_true",
                         help="the person stands 0.4-0.8 m in front of the robot")
     parser.add_argument("--pose", choices=("standing", "sitting"), default="standing")
+    parser.add_argument("--facing", type=float, default=FACING_DEG,
+                        help="the person faces the robot within +-this many degrees")
     parser.add_argument("--weights", type=Path, default=None,
                         help="YOLO weights (default: assets/models/detector.pt, else "
                              "runs/train-detector/weights/best.pt)")
@@ -222,8 +227,9 @@ def main() -> None:
     blocked = obstacles(base.model_copy(update={"people": ()}))
     rows, start = [], time.perf_counter()
     for i in range(args.trials):
-        place = close_placement if args.close else placement
-        robot, person = place(base, blocked, np.random.default_rng([args.seed, i]))
+        rng = np.random.default_rng([args.seed, i])
+        robot, person = (close_placement(base, blocked, rng) if args.close
+                         else placement(base, blocked, rng, args.facing))
         person = person.model_copy(update={"pose": args.pose})
         row = {"trial": i, "robot": robot.model_dump(), "person": person.model_dump(),
                **run_trial(trial_scenario(base, robot, person), detector)}
@@ -232,7 +238,7 @@ def main() -> None:
                                                "bearing_error_deg", "distance_m")}),
               file=sys.stderr, flush=True)
     summary = {"weights": str(weights), "seed": args.seed, "close": args.close,
-               "pose": args.pose,
+               "pose": args.pose, "facing_deg": args.facing,
                **summarise(rows),
                "wall_s": round(time.perf_counter() - start, 1)}
     print(table(summary))

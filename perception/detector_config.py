@@ -36,6 +36,7 @@ class DataConfig(StrictModel):
     empty_fraction: float = Field(ge=0.0, le=1.0)
     furniture_per_frame: tuple[NonNegativeInt, NonNegativeInt]
     edge_margin_deg: float = Field(ge=0.0, le=45.0)
+    head_pitch: tuple[float, float]
     view_weights: tuple[NonNegativeFloat, NonNegativeFloat, NonNegativeFloat]
     examples: NonNegativeInt
     min_box_px: PositiveInt
@@ -46,7 +47,7 @@ class DataConfig(StrictModel):
 
     @model_validator(mode="after")
     def _ranges(self) -> Self:
-        for name in ("distance", "people_per_frame", "furniture_per_frame"):
+        for name in ("distance", "people_per_frame", "furniture_per_frame", "head_pitch"):
             lo, hi = getattr(self, name)
             if lo > hi:
                 raise ValueError(f"{name}: lower bound {lo} exceeds upper bound {hi}")

@@ -172,7 +172,7 @@ def sample_scene(seed: int | np.random.SeedSequence, cfg: DataConfig, hfov: floa
                   bool(rng.random() < 0.2))
     return SceneSpec(tuple(people), tuple(furniture), max(_u(rng, 4, 8), far_x + 1.2),
                      max(_u(rng, 2, 4.5), far_y + 1.0), _colour(rng), _colour(rng), light,
-                     _u(rng, -0.2, 0.35))
+                     _u(rng, *cfg.head_pitch))
 
 
 def room_parts(spec: SceneSpec) -> list[Part]:

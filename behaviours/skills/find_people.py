@@ -39,8 +39,7 @@ class ApproachPerson(BoxSteering):
     face count is short ``face_wait_s`` after the robot came near, it circles the person
     to see their front; a person whose face still has not shown (their back is turned, or
     it is no person), or a near box without a face that keeps vanishing, is ignored for
-    ``ignore_s``: boxes towards where they stand, in this run and the skill's next ones.
-    FAILURE after ``timeout_s``."""
+    ``ignore_s``: boxes towards where they stand. FAILURE after ``timeout_s``."""
 
     def __init__(self, house: Household, name: str = "Approach a person") -> None:
         super().__init__(name, house, house.config.perception.tracking_rate)
@@ -49,8 +48,7 @@ class ApproachPerson(BoxSteering):
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
-        # floor spot of a person given up on -> ignored until (s); kept across runs of the
-        # skill, so that the next attempt looks for someone else
+        # floor spot of a person given up on -> ignored until (s)
         self._ignored: dict[tuple[float, float], float] = {}
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
         self._spot: tuple[float, float] | None = None   # where the followed person stands
@@ -64,7 +62,7 @@ class ApproachPerson(BoxSteering):
         self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
         self._side, self._escape_start = 1.0, -math.inf
-        self._vanished, self._spot = {}, None
+        self._ignored, self._vanished, self._spot = {}, {}, None
         self.detour.cancel()
         self._detours = 0
 
