@@ -24,20 +24,16 @@ from PIL import Image
 from behaviours.config import load_behaviour_config
 from behaviours.skills.box_steering import has_face
 from perception.detector import Detection, YoloDetector
+from perception.detector_data import CLASSES, Box
 
 THRESHOLDS = (0.3, 0.4, 0.5, 0.6)
 
 
 def labelled_boxes(label_file: Path, width: int, height: int) -> list[Detection]:
-    """The YOLO label rows of one frame as pixel boxes (conf 1)."""
-    boxes = []
-    for line in label_file.read_text().splitlines():
-        if line.strip():
-            c, x, y, w, h = (float(v) for v in line.split())
-            boxes.append(Detection("person" if c == 0 else "face", 1.0,
-                                   ((x - w / 2) * width, (y - h / 2) * height,
-                                    (x + w / 2) * width, (y + h / 2) * height)))
-    return boxes
+    """The YOLO label rows of one frame as detections of conf 1."""
+    boxes = [Box.from_yolo(line, width, height)
+             for line in label_file.read_text().splitlines() if line.strip()]
+    return [Detection(CLASSES[b.cls], 1.0, (b.x0, b.y0, b.x1 + 1, b.y1 + 1)) for b in boxes]
 
 
 def main() -> None:

@@ -95,6 +95,13 @@ class Box:
         return (f"{self.cls} {(self.x0 + w / 2) / width:.6f} {(self.y0 + h / 2) / height:.6f} "
                 f"{w / width:.6f} {h / height:.6f}")
 
+    @classmethod
+    def from_yolo(cls, line: str, width: int, height: int) -> Box:
+        """The box of a YOLO label line written by :meth:`yolo` (back to whole pixels)."""
+        c, cx, cy, w, h = (float(v) for v in line.split())
+        x0, y0 = round((cx - w / 2) * width), round((cy - h / 2) * height)
+        return cls(int(c), x0, y0, x0 + round(w * width) - 1, y0 + round(h * height) - 1)
+
 
 @dataclass
 class Frame:

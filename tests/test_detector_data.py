@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import astuple
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from app.cli import main
 from app.config import ConfigError
 from app.people import Appearance
 from perception.detector_config import load_detector_config
-from perception.detector_data import DetectorScene, PersonSpec, SceneSpec, _extent
+from perception.detector_data import Box, DetectorScene, PersonSpec, SceneSpec, _extent
 
 CFG = load_detector_config().data
 
@@ -22,14 +23,6 @@ def scene():
     s = DetectorScene(CFG)
     yield s
     s.close()
-
-
-def _parse(line: str) -> tuple[int, int, int, int, int]:
-    """Label line back to inclusive pixel extents."""
-    c, cx, cy, w, h = (float(v) for v in line.split())
-    W, H = CFG.image.width, CFG.image.height  # noqa: N806
-    x0, y0 = round((cx - w / 2) * W), round((cy - h / 2) * H)
-    return int(c), x0, y0, x0 + round(w * W) - 1, y0 + round(h * H) - 1
 
 
 def test_boxes_match_mask_on_seeded_frame(scene):
@@ -47,7 +40,8 @@ def test_boxes_match_mask_on_seeded_frame(scene):
         if face_mask.any():
             b = _extent(face_mask, 1)
             expected.add((1, b.x0, b.y0, b.x1, b.y1))
-    labels = {_parse(b.yolo(CFG.image.width, CFG.image.height)) for b in frame.boxes}
+    w, h = CFG.image.width, CFG.image.height
+    labels = {astuple(Box.from_yolo(b.yolo(w, h), w, h)) for b in frame.boxes}
     assert labels <= expected  # every kept box is exactly a mask extent
 
 
