@@ -13,6 +13,7 @@ import torch
 
 from app.checkpoint import claim_run_folder
 from app.cli import main
+from app.config import ConfigError
 from app.errors import UserError
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, STAND_BY, load_personality
@@ -267,6 +268,17 @@ def test_input_scaling_is_an_affine_map_of_the_motivations():
     plain.load_state_dict(scaled.state_dict())
     obs = torch.rand(4, 6)
     torch.testing.assert_close(scaled(obs), plain((obs - 0.6) / 0.05))
+
+
+@pytest.mark.parametrize(("yaml_text", "message"), [
+    ("env: {initial_drives: [0.8, 0.2]}", r"env: .*initial_drives: lower bound 0.8 exceeds"),
+    ("train: {demo_initial_drives: [0.0, 1.5]}", r"train\.demo_initial_drives\[1\]: .*less than"),
+])
+def test_bad_drive_ranges_are_rejected_by_name(tmp_path, yaml_text, message):
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml_text)
+    with pytest.raises(ConfigError, match=message):
+        load_policy_config(path)
 
 
 def test_only_the_action_that_crosses_the_threshold_counts_as_becoming_insecure(h, cfg):

@@ -3,11 +3,21 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated, Self
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from app.config import StrictModel, load_model
 from app.personality import Action
+
+DriveLevel = Annotated[float, Field(ge=0, le=1)]
+DriveRange = tuple[DriveLevel, DriveLevel]
+
+
+def check_order(name: str, bounds: DriveRange | None) -> None:
+    """Reject a ``[low, high]`` range whose low end lies above its high end."""
+    if bounds is not None and bounds[0] > bounds[1]:
+        raise ValueError(f"{name}: lower bound {bounds[0]} exceeds upper bound {bounds[1]}")
 
 
 class PeopleConfig(StrictModel):
@@ -41,10 +51,15 @@ class EnvConfig(StrictModel):
 
     episode_steps: int = Field(ge=1)
     terminate_on_insecure: bool
-    initial_drives: tuple[float, float]
+    initial_drives: DriveRange
     people: PeopleConfig
     encouragement: EncouragementConfig
     heat: HeatConfig
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Self:
+        check_order("initial_drives", self.initial_drives)
+        return self
 
 
 class NetworkConfig(StrictModel):
@@ -90,12 +105,17 @@ class TrainConfig(StrictModel):
     demo_transitions: int = Field(default=0, ge=0)
     demo_seed: int = 200000
     demo_past_insecure: bool = False
-    demo_initial_drives: tuple[float, float] | None = None
+    demo_initial_drives: DriveRange | None = None
     demo_pretrain_updates: int = Field(default=0, ge=0)
     demo_share: float = Field(default=0.25, ge=0, le=1)
     demo_weight: float = Field(default=1.0, ge=0)
     demo_weight_rl: float | None = Field(default=None, ge=0)
     demo_margin: float = Field(default=0.8, ge=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Self:
+        check_order("demo_initial_drives", self.demo_initial_drives)
+        return self
 
 
 class PolicyConfig(StrictModel):
