@@ -121,6 +121,21 @@ def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
     assert rows[0].startswith("transitions,") and len(rows) > 1
 
 
+def test_resuming_a_checkpoint_of_an_older_version_names_the_file(h, cfg, tmp_path):
+    tiny = cfg.model_copy(update={
+        "env": short_env(cfg, 500),
+        "train": cfg.train.model_copy(update={
+            "num_envs": 8, "total_transitions": 300, "learning_starts": 100,
+            "checkpoint_every": 20, "eval_episodes": 2})})
+    train(h.personality, tiny, tmp_path, progress=False)
+    ckpt = tmp_path / "checkpoint.pt"
+    state = torch.load(ckpt, weights_only=False)
+    del state["env"]["secure_at_choice"]  # as written before the env tracked it
+    torch.save(state, ckpt)
+    with pytest.raises(PolicyFileError, match=r"checkpoint\.pt: cannot resume .*secure_at_choice"):
+        train(h.personality, tiny, tmp_path, resume=True, progress=False)
+
+
 def test_a_folder_another_live_training_holds_is_refused(tmp_path):
     other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
     try:

@@ -24,7 +24,7 @@ from tqdm import tqdm
 from app.checkpoint import atomic_torch_save, claim_run_folder
 from app.homeostasis import Homeostasis
 from app.personality import ACTIONS, MOTIVATIONS, Personality
-from app.policy.agent import DQNPolicy
+from app.policy.agent import DQNPolicy, PolicyFileError
 from app.policy.config import PolicyConfig, TrainConfig
 from app.policy.demo import collect_demonstrations, margin_loss
 from app.policy.env import Decisions, VecHomeostasisEnv
@@ -148,11 +148,17 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
 
     if ckpt_path.exists():
         state = torch.load(ckpt_path, map_location="cpu", weights_only=False)
-        q.load_state_dict(state["q"])
-        target.load_state_dict(state["target"])
-        optimizer.load_state_dict(state["optimizer"])
-        memory.load_state_dict(state["memory"])
-        env.load_state_dict(state["env"])
+        try:
+            q.load_state_dict(state["q"])
+            target.load_state_dict(state["target"])
+            optimizer.load_state_dict(state["optimizer"])
+            memory.load_state_dict(state["memory"])
+            env.load_state_dict(state["env"])
+        except (KeyError, RuntimeError, ValueError) as exc:
+            raise PolicyFileError(
+                f"{ckpt_path}: cannot resume from this checkpoint, written for another network "
+                f"or by an older version ({type(exc).__name__}: {exc}); train into a new "
+                "--out folder") from None
         rng.bit_generator.state = state["rng"]
         torch.set_rng_state(state["torch_rng"])
         transitions, updates, episodes = state["counters"]
