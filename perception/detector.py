@@ -59,8 +59,10 @@ class Detector(Protocol):
 class YoloDetector:
     """An ultralytics YOLO model run on the CPU at the camera's resolution."""
 
-    def __init__(self, weights: str | Path | None = None, imgsz: int = 320, conf: float = 0.25,
-                 iou: float = 0.5) -> None:
+    def __init__(self, weights: str | Path | None = None, imgsz: int | None = None,
+                 conf: float | None = None, iou: float | None = None) -> None:
+        """``weights`` None: the shipped detector; other arguments left at None take the
+        value of ``detect:`` in ``app/defaults/detector.yaml``."""
         from perception.ultralytics_offline import ultralytics_module
 
         path = Path(weights) if weights is not None else DEFAULT_DETECTOR
@@ -73,7 +75,11 @@ class YoloDetector:
             self.names: dict[int, str] = dict(self.model.names)
         except Exception as exc:
             raise DetectorFileError(f"{path}: not a readable YOLO weights file ({exc})") from None
-        self.path, self.imgsz, self.conf, self.iou = path, imgsz, conf, iou
+        defaults = load_detector_config().detect
+        self.path = path
+        self.imgsz = defaults.imgsz if imgsz is None else imgsz
+        self.conf = defaults.conf if conf is None else conf
+        self.iou = defaults.iou if iou is None else iou
 
     @classmethod
     def from_config(cls, cfg: DetectConfig | None = None) -> YoloDetector:

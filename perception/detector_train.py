@@ -81,14 +81,17 @@ def latency_ms(detector: YoloDetector, frames: list[Path], repeats: int = 100) -
 
 
 def evaluate_detector(weights: Path | None, data: Path, split: str = "test",
-                      imgsz: int = 320) -> dict[str, Any]:
-    """mAP figures on ``split`` of the data set and the median CPU latency per frame."""
+                      imgsz: int | None = None) -> dict[str, Any]:
+    """mAP figures on ``split`` of the data set and the median CPU latency per frame. Boxes
+    are merged with the NMS overlap the robot uses (``detect.iou``); every confidence counts
+    (ultralytics' 0.001), as mAP needs the whole precision-recall curve."""
     data_yaml = _data_yaml(data)
     detector = YoloDetector(weights, imgsz=imgsz)
     with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes a val folder
-        metrics = detector.model.val(data=str(data_yaml.resolve()), split=split, imgsz=imgsz,
-                                     batch=16, device="cpu", plots=False, verbose=False,
-                                     workers=0, project=scratch)
+        metrics = detector.model.val(data=str(data_yaml.resolve()), split=split,
+                                     imgsz=detector.imgsz, iou=detector.iou, batch=16,
+                                     device="cpu", plots=False, verbose=False, workers=0,
+                                     project=scratch)
     box = metrics.box
     ap50 = dict(zip(box.ap_class_index.tolist(), box.ap50.tolist(), strict=True))
     ap = dict(zip(box.ap_class_index.tolist(), box.ap.tolist(), strict=True))
@@ -103,7 +106,8 @@ def evaluate_detector(weights: Path | None, data: Path, split: str = "test",
         "face_map50": ap50.get(index["face"], 0.0),
         "face_map50_95": ap.get(index["face"], 0.0),
         "latency_ms_median": latency_ms(detector, frames),
-        "imgsz": imgsz,
+        "imgsz": detector.imgsz,
+        "nms_iou": detector.iou,
     }
 
 

@@ -26,6 +26,8 @@ from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
 from app.policy.train import action_discounts, selection_score, train, training_reward
 
+DISCOUNTS = np.full(len(ACTIONS), 0.99, dtype=np.float32)  # per decision, every action
+
 
 @pytest.fixture(scope="module")
 def h():
@@ -175,10 +177,10 @@ def test_insecure_penalty_lands_on_the_terminal_transitions(h, cfg, tmp_path):
 
 def test_discount_per_decision_or_per_time():
     durations = np.array([1000, 100, 30, 12])
-    assert torch.allclose(action_discounts(0.99, durations, None), torch.full((4,), 0.99))
+    np.testing.assert_allclose(action_discounts(0.99, durations, None), np.full(4, 0.99))
     per_time = action_discounts(0.99, durations, 12)
-    expected = torch.tensor([0.99 ** (1000 / 12), 0.99 ** (100 / 12), 0.99 ** 2.5, 0.99])
-    assert torch.allclose(per_time, expected)
+    expected = [0.99 ** (1000 / 12), 0.99 ** (100 / 12), 0.99 ** 2.5, 0.99]
+    np.testing.assert_allclose(per_time, expected, rtol=1e-6)
     assert per_time[0] < 0.44  # a charge costs the future as much as 83 stand-bys
 
 
@@ -271,7 +273,7 @@ def test_margin_loss_by_hand():
 
 def test_demonstrations_are_the_rules_choices(h, cfg):
     tc = cfg.train.model_copy(update={"num_envs": 8, "demo_transitions": 500})
-    demos = collect_demonstrations(h, cfg.env, tc, lambda d: d.reward)
+    demos = collect_demonstrations(h, cfg.env, tc, lambda d: d.reward, DISCOUNTS)
     assert demos.size == 500
     np.testing.assert_array_equal(demos.action, HomeostaticRule(h)(demos.obs))
     assert len(set(demos.action.tolist())) >= 4  # the rule acts, it does not only stand by
@@ -310,9 +312,9 @@ def test_only_the_action_that_crosses_the_threshold_counts_as_becoming_insecure(
 def test_demonstrations_can_go_on_past_insecurity(h, cfg):
     env_cfg = short_env(cfg, 3000).model_copy(update={"terminate_on_insecure": True})
     tc = cfg.train.model_copy(update={"num_envs": 16, "demo_transitions": 3000})
-    plain = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward)
+    plain = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward, DISCOUNTS)
     tc = tc.model_copy(update={"demo_past_insecure": True, "demo_initial_drives": (0.0, 1.0)})
-    demos = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward)
+    demos = collect_demonstrations(h, env_cfg, tc, lambda d: d.reward, DISCOUNTS)
     assert not (~h.secure(plain.obs)).any()
     assert (~h.secure(demos.obs)).mean() > 0.005  # the rule is shown recovering from 0.9
     np.testing.assert_array_equal(demos.action, HomeostaticRule(h)(demos.obs))
@@ -332,7 +334,7 @@ def test_pretraining_on_demonstrations_imitates_the_rule(h, cfg, tmp_path):
     q = DuelingQNetwork(6, 7, **tiny.network.model_dump())
     q.load_state_dict(blob["q"])
     fresh = collect_demonstrations(h, cfg.env, tiny.train.model_copy(
-        update={"demo_seed": 7, "demo_transitions": 3000}), lambda d: d.reward)
+        update={"demo_seed": 7, "demo_transitions": 3000}), lambda d: d.reward, DISCOUNTS)
     with torch.no_grad():
         agree = (q(torch.as_tensor(fresh.obs)).argmax(1).numpy() == fresh.action).mean()
     share_stand_by = (fresh.action == STAND_BY).mean()

@@ -84,6 +84,7 @@ class TrainConfig(StrictModel):
     total_transitions: int = Field(ge=1)
     gamma: float = Field(ge=0, le=1)
     gamma_steps: int | None = Field(default=None, ge=1)
+    n_step: int = Field(default=1, ge=1)
     learning_rate: float = Field(gt=0)
     learning_rate_end: float | None = Field(default=None, gt=0)
     rmsprop_alpha: float = Field(gt=0, lt=1)

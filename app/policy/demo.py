@@ -20,13 +20,15 @@ from app.personality import MOTIVATIONS
 from app.policy.baselines import HomeostaticRule
 from app.policy.config import EnvConfig, TrainConfig
 from app.policy.env import Decisions, VecHomeostasisEnv
-from app.policy.replay import ReplayBuffer
+from app.policy.replay import NStepWriter, ReplayBuffer
 
 
 def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: TrainConfig,
-                           reward_fn: Callable[[Decisions], np.ndarray]) -> ReplayBuffer:
+                           reward_fn: Callable[[Decisions], np.ndarray],
+                           discounts: np.ndarray) -> ReplayBuffer:
     """``tc.demo_transitions`` transitions of the homeostatic rule in ``tc.num_envs`` training
-    episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward.
+    episodes seeded by ``tc.demo_seed``; ``reward_fn(decisions)`` gives the stored reward and
+    ``discounts`` each action's discount (stored as ``tc.n_step``-step returns).
     With ``tc.demo_past_insecure`` those episodes do not end when a drive reaches the secure
     threshold, and ``tc.demo_initial_drives`` may start them higher than the DQN's own, so
     that the memory also shows the rule bringing drives back from there."""
@@ -37,13 +39,15 @@ def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: Tra
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)
     rule = HomeostaticRule(homeostasis)
     memory = ReplayBuffer(tc.demo_transitions, len(MOTIVATIONS))
+    writer = NStepWriter(memory, tc.n_step, tc.num_envs, len(MOTIVATIONS))
     every = np.arange(tc.num_envs)
     env.act(every, rule(env.observe(every)))
     while memory.size < tc.demo_transitions:
         d = env.advance()
         # becoming insecure ends what the DQN learns from (as in its own episodes), even
         # where the demonstration goes on from there
-        memory.add(d.obs, d.action, reward_fn(d), d.next_obs, d.terminal | d.became_insecure)
+        writer.add(d.idx, d.obs, d.action, reward_fn(d), d.next_obs, discounts[d.action],
+                   d.terminal | d.became_insecure, np.isin(d.idx, d.ended))
         env.act(d.idx, rule(d.decide_obs))
     return memory
 

@@ -30,7 +30,7 @@ from app.policy.demo import collect_demonstrations, margin_loss
 from app.policy.env import Decisions, VecHomeostasisEnv
 from app.policy.evaluate import run_episodes, summarise
 from app.policy.network import DuelingQNetwork
-from app.policy.replay import ReplayBuffer
+from app.policy.replay import NStepWriter, ReplayBuffer
 
 LOG_FIELDS = ["transitions", "updates", "episode", "return", "rsr", "epsilon", "wall_s"]
 EVAL_FIELDS = ["transitions", "updates", "rsr", "mean_reward", "best", "wall_s"]
@@ -48,12 +48,12 @@ def export_policy(q: DuelingQNetwork, cfg: PolicyConfig, path: Path, meta: dict)
 
 
 def action_discounts(gamma: float, durations: np.ndarray, gamma_steps: int | None
-                     ) -> torch.Tensor:
+                     ) -> np.ndarray:
     """The discount of each action's transition: ``gamma`` per decision, or with
     ``gamma_steps`` ``gamma ** (duration / gamma_steps)``, so that a long action (a charge
     of 1000 steps) costs the future as much time as it takes (semi-Markov discounting)."""
     exponent = np.ones(len(durations)) if gamma_steps is None else durations / gamma_steps
-    return torch.as_tensor(gamma ** exponent, dtype=torch.float32)
+    return (gamma ** exponent).astype(np.float32)
 
 
 def training_reward(d: Decisions, durations: np.ndarray, tc: TrainConfig) -> np.ndarray:
@@ -67,15 +67,14 @@ def training_reward(d: Decisions, durations: np.ndarray, tc: TrainConfig) -> np.
 
 
 def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.optim.Optimizer,
-               batch: tuple[np.ndarray, ...], discounts: torch.Tensor,
-               max_grad_norm: float | None, n_demo: int = 0, demo_weight: float = 0.0,
-               demo_margin: float = 0.0) -> float:
-    """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y; ``discounts``
-    holds the discount of each action (:func:`action_discounts`). The last ``n_demo``
+               batch: tuple[np.ndarray, ...], max_grad_norm: float | None, n_demo: int = 0,
+               demo_weight: float = 0.0, demo_margin: float = 0.0) -> float:
+    """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y, bootstrapped with
+    each transition's stored discount (one action's, or n actions' for an n-step return;
+    :class:`~app.policy.replay.NStepWriter`). The last ``n_demo``
     transitions of ``batch`` are demonstrations: they add ``demo_weight`` times
     :func:`~app.policy.demo.margin_loss`."""
-    obs, act, rew, nxt, terminal = (torch.as_tensor(x) for x in batch)
-    gamma = discounts[act]
+    obs, act, rew, nxt, gamma, terminal = (torch.as_tensor(x) for x in batch)
     q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
     q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
     with torch.no_grad():  # the online net picks the next action, the target net rates it
@@ -139,9 +138,11 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                                     alpha=tc.rmsprop_alpha, eps=tc.rmsprop_eps,
                                     foreach=True)
     memory = ReplayBuffer(tc.buffer_size, n_obs)
-    demos = None if tc.demo_transitions == 0 else collect_demonstrations(
-        homeostasis, env_cfg, tc, lambda d: training_reward(d, homeostasis.duration, tc))
     discounts = action_discounts(tc.gamma, homeostasis.duration, tc.gamma_steps)
+    demos = None if tc.demo_transitions == 0 else collect_demonstrations(
+        homeostasis, env_cfg, tc, lambda d: training_reward(d, homeostasis.duration, tc),
+        discounts)
+    writer = NStepWriter(memory, tc.n_step, tc.num_envs, n_obs)
     transitions = updates = episodes = 0
     credit, wall_offset = 0.0, 0.0
     best: tuple[float, float] | None = None
@@ -216,7 +217,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                 group["lr"] = linear_schedule(tc.learning_rate, tc.learning_rate_end,
                                               tc.total_transitions, transitions)
         batch, n_demo = sample_batch(memory, demos, rng, tc, pretraining)
-        dqn_update(q, target, optimizer, batch, discounts, tc.max_grad_norm, n_demo,
+        dqn_update(q, target, optimizer, batch, tc.max_grad_norm, n_demo,
                    tc.demo_weight if pretraining or tc.demo_weight_rl is None
                    else tc.demo_weight_rl, tc.demo_margin)
         updates += 1
@@ -242,8 +243,9 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                   desc="train policy", unit="dec") as bar:
             while transitions < tc.total_transitions:
                 d = env.advance()
-                memory.add(d.obs, d.action, training_reward(d, homeostasis.duration, tc),
-                           d.next_obs, d.terminal)
+                writer.add(d.idx, d.obs, d.action, training_reward(d, homeostasis.duration, tc),
+                           d.next_obs, discounts[d.action], d.terminal,
+                           np.isin(d.idx, d.ended))
                 transitions += len(d.idx)
                 bar.update(len(d.idx))
                 env.act(d.idx, choose(d.decide_obs))
