@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.policy.env import Decisions
 from app.policy.replay import NStepWriter, ReplayBuffer
 
 
@@ -13,9 +14,12 @@ def feed(writer: NStepWriter, steps: list[tuple[float, float, bool, bool]], star
     """Decisions ``start``, ``start + 1``, ... of env 0 (of 2): (reward, discount, terminal,
     ended); decision k goes from obs [k, 0] to [k + 1, 0]."""
     for k, (r, g, terminal, ended) in enumerate(steps, start):
-        writer.add(np.array([0]), np.array([[k, 0.0]]), np.array([k % 3]), np.array([r]),
-                   np.array([[k + 1, 0.0]]), np.array([g]), np.array([terminal]),
-                   np.array([ended]))
+        writer.discounts[k % 3] = g  # action k % 3 is the one taken; its discount is g
+        nxt = np.array([[k + 1, 0.0]])
+        d = Decisions(np.array([0]), np.array([[k, 0.0]]), np.array([k % 3]), np.array([r]),
+                      nxt, nxt, np.array([terminal]), np.array([False]),
+                      ended=np.array([0] if ended else [], dtype=np.int64))
+        writer.add(d, np.array([r]), np.array([terminal]))
 
 
 def written(memory: ReplayBuffer) -> list[tuple]:
@@ -26,14 +30,15 @@ def written(memory: ReplayBuffer) -> list[tuple]:
 
 def test_one_step_writes_each_decision_as_it_comes():
     memory = ReplayBuffer(10, 2)
-    feed(NStepWriter(memory, 1, 2, 2), [(1.0, 0.9, False, False), (2.0, 0.5, True, True)])
+    feed(NStepWriter(memory, 1, 2, 2, np.zeros(3)),
+         [(1.0, 0.9, False, False), (2.0, 0.5, True, True)])
     assert written(memory) == [(0.0, 1.0, 1.0, pytest.approx(0.9), False),
                                (1.0, 2.0, 2.0, 0.5, True)]
 
 
 def test_three_step_returns_discount_each_reward_by_the_actions_before_it():
     memory = ReplayBuffer(10, 2)
-    writer = NStepWriter(memory, 3, 2, 2)
+    writer = NStepWriter(memory, 3, 2, 2, np.zeros(3))
     feed(writer, [(1.0, 0.5, False, False), (2.0, 0.5, False, False)])
     assert memory.size == 0  # nothing is complete yet
     feed(writer, [(4.0, 0.5, False, False)], start=2)
@@ -44,8 +49,8 @@ def test_three_step_returns_discount_each_reward_by_the_actions_before_it():
 
 def test_a_terminal_decision_writes_everything_pending_without_bootstrap():
     memory = ReplayBuffer(10, 2)
-    feed(NStepWriter(memory, 3, 2, 2), [(1.0, 0.5, False, False), (2.0, 0.5, False, False),
-                                        (-10.0, 0.5, True, False)])
+    feed(NStepWriter(memory, 3, 2, 2, np.zeros(3)),
+         [(1.0, 0.5, False, False), (2.0, 0.5, False, False), (-10.0, 0.5, True, False)])
     rows = written(memory)
     assert [r[1] for r in rows] == [1.0 + 1.0 - 2.5, 2.0 - 5.0, -10.0]
     assert all(r[4] for r in rows) and [r[2] for r in rows] == [3.0, 3.0, 3.0]
@@ -53,7 +58,7 @@ def test_a_terminal_decision_writes_everything_pending_without_bootstrap():
 
 def test_the_end_of_an_episode_bootstraps_the_shorter_returns():
     memory = ReplayBuffer(10, 2)
-    writer = NStepWriter(memory, 3, 2, 2)
+    writer = NStepWriter(memory, 3, 2, 2, np.zeros(3))
     feed(writer, [(1.0, 0.5, False, False), (2.0, 0.5, False, True)])
     assert written(memory) == [(0.0, 2.0, 2.0, 0.25, False), (1.0, 2.0, 2.0, 0.5, False)]
     feed(writer, [(7.0, 0.5, False, False)], start=2)  # a new episode starts from nothing pending

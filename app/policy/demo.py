@@ -39,15 +39,14 @@ def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: Tra
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)
     rule = HomeostaticRule(homeostasis)
     memory = ReplayBuffer(tc.demo_transitions, len(MOTIVATIONS))
-    writer = NStepWriter(memory, tc.n_step, tc.num_envs, len(MOTIVATIONS))
+    writer = NStepWriter(memory, tc.n_step, tc.num_envs, len(MOTIVATIONS), discounts)
     every = np.arange(tc.num_envs)
     env.act(every, rule(env.observe(every)))
     while memory.size < tc.demo_transitions:
         d = env.advance()
         # becoming insecure ends what the DQN learns from (as in its own episodes), even
         # where the demonstration goes on from there
-        writer.add(d.idx, d.obs, d.action, reward_fn(d), d.next_obs, discounts[d.action],
-                   d.terminal | d.became_insecure, np.isin(d.idx, d.ended))
+        writer.add(d, reward_fn(d), d.terminal | d.became_insecure)
         env.act(d.idx, rule(d.decide_obs))
     return memory
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from app.policy.env import Decisions
+
 FIELDS = ("obs", "next_obs", "action", "reward", "discount", "terminal")
 
 
@@ -58,24 +60,26 @@ class NStepWriter:
     rewards, each discounted by the actions before it, and the target bootstraps from the
     state ``n`` decisions later. A terminal transition, or the end of an episode, writes
     everything still pending (shorter returns; no bootstrap after a terminal one). With
-    ``n = 1`` every decision is written as it comes."""
+    ``n = 1`` every decision is written as it comes. ``discounts[a]`` is action a's
+    discount (``app.policy.train.action_discounts``)."""
 
-    def __init__(self, memory: ReplayBuffer, n: int, num_envs: int, obs_dim: int) -> None:
-        self.memory, self.n = memory, n
+    def __init__(self, memory: ReplayBuffer, n: int, num_envs: int, obs_dim: int,
+                 discounts: np.ndarray) -> None:
+        self.memory, self.n, self.discounts = memory, n, discounts
         self.obs = np.zeros((num_envs, n, obs_dim), dtype=np.float32)
         self.action = np.zeros((num_envs, n), dtype=np.int64)
         self.reward = np.zeros((num_envs, n))
         self.discount = np.zeros((num_envs, n))
         self.count = np.zeros(num_envs, dtype=np.int64)
 
-    def add(self, idx: np.ndarray, obs: np.ndarray, action: np.ndarray, reward: np.ndarray,
-            next_obs: np.ndarray, discount: np.ndarray, terminal: np.ndarray,
-            ended: np.ndarray) -> None:
-        """One finished decision in each env of ``idx``; ``ended`` marks envs whose episode
-        stops there (time limit or terminal), ``terminal`` those that must not bootstrap."""
+    def add(self, d: Decisions, reward: np.ndarray, terminal: np.ndarray) -> None:
+        """The decisions that just finished, stored with ``reward``; ``terminal`` marks
+        those that must not bootstrap. Envs in ``d.ended`` start a new episode after them."""
+        idx, next_obs = d.idx, d.next_obs
+        ended = np.isin(idx, d.ended)
         k = self.count[idx]
-        self.obs[idx, k], self.action[idx, k] = obs, action
-        self.reward[idx, k], self.discount[idx, k] = reward, discount
+        self.obs[idx, k], self.action[idx, k] = d.obs, d.action
+        self.reward[idx, k], self.discount[idx, k] = reward, self.discounts[d.action]
         self.count[idx] += 1
         for j, i in enumerate(idx):
             if terminal[j] or ended[j]:

@@ -142,7 +142,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
     demos = None if tc.demo_transitions == 0 else collect_demonstrations(
         homeostasis, env_cfg, tc, lambda d: training_reward(d, homeostasis.duration, tc),
         discounts)
-    writer = NStepWriter(memory, tc.n_step, tc.num_envs, n_obs)
+    writer = NStepWriter(memory, tc.n_step, tc.num_envs, n_obs, discounts)
     transitions = updates = episodes = 0
     credit, wall_offset = 0.0, 0.0
     best: tuple[float, float] | None = None
@@ -243,9 +243,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                   desc="train policy", unit="dec") as bar:
             while transitions < tc.total_transitions:
                 d = env.advance()
-                writer.add(d.idx, d.obs, d.action, training_reward(d, homeostasis.duration, tc),
-                           d.next_obs, discounts[d.action], d.terminal,
-                           np.isin(d.idx, d.ended))
+                writer.add(d, training_reward(d, homeostasis.duration, tc), d.terminal)
                 transitions += len(d.idx)
                 bar.update(len(d.idx))
                 env.act(d.idx, choose(d.decide_obs))
