@@ -1,8 +1,8 @@
 """The ``companion`` command: one entry point with a subcommand per job.
 
 Each domain keeps its own command-line module exposing any of ``add_train``, ``add_eval``,
-``add_data`` (each receives the subparsers of that group) and ``add_commands`` (receives
-the top-level subparsers); :data:`DOMAINS` lists those modules.
+``add_data``, ``add_export`` (each receives the subparsers of that group) and
+``add_commands`` (receives the top-level subparsers); :data:`DOMAINS` lists those modules.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from app import __version__
 DOMAINS = ["app.policy.cli", "dialogue.cli", "dialogue.style_cli", "dialogue.chat_cli",
            "perception.cli", "perception.vqg_cli", "app.run_cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
-          "data": "generate a data set"}
+          "data": "generate a data set", "export": "export a trained model for the robot"}
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -51,7 +51,8 @@ from perception.detector import Detector, YoloDetector
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIO = ROOT / "worlds" / "living_room.yaml"
-WEIGHTS = (ROOT / "assets" / "models" / "detector.pt",
+WEIGHTS = (ROOT / "assets" / "models" / "detector.onnx",
+           ROOT / "assets" / "models" / "detector.pt",
            ROOT / "runs" / "train-detector" / "weights" / "best.pt")
 PERSON = "Tom"               # the living room's standing person
 TARGET_DISTANCE_M = 1.0      # base to body centre where the skill stops (docs/find_people.md)
@@ -217,7 +218,7 @@ def main() -> None:
     parser.add_argument("--facing", type=float, default=FACING_DEG,
                         help="the person faces the robot within +-this many degrees")
     parser.add_argument("--weights", type=Path, default=None,
-                        help="YOLO weights (default: assets/models/detector.pt, else "
+                        help="YOLO weights (default: assets/models/detector.onnx, else .pt, else "
                              "runs/train-detector/weights/best.pt)")
     parser.add_argument("--json", type=Path, default=None, help="write every trial here")
     args = parser.parse_args()

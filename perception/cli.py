@@ -60,7 +60,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--epochs", type=int, help="override train.epochs")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--export", type=Path,
-                   help="copy the best weights here (e.g. assets/models/detector.pt)")
+                   help="copy the best weights here (e.g. assets/models/detector.pt) and "
+                   "their ONNX export beside them (detector.onnx)")
     p.set_defaults(func=run_train)
 
 
@@ -76,6 +77,35 @@ def run_train(args: argparse.Namespace) -> int:
         cfg = cfg.model_copy(update={"epochs": args.epochs})
     best = train_detector(cfg, args.data, args.out, resume=args.resume, export=args.export)
     print(f"best weights: {best}" + (f" (copied to {args.export})" if args.export else ""))
+    return 0
+
+
+def add_export(sub: argparse._SubParsersAction) -> None:
+    """Register ``export detector``."""
+    from perception.detector import DEFAULT_DETECTOR, DEFAULT_TRAINED
+
+    p = sub.add_parser("detector", help="export YOLO weights to the ONNX file the robot runs",
+                       description="Export ultralytics YOLO weights to an ONNX graph with the "
+                       "head camera's input size, run by onnxruntime on the robot.")
+    p.add_argument("--weights", type=Path, default=DEFAULT_TRAINED,
+                   help="ultralytics weights (default: the shipped detector.pt)")
+    p.add_argument("--out", type=Path, default=DEFAULT_DETECTOR,
+                   help="ONNX file (default: the shipped detector.onnx)")
+    p.add_argument("--imgsz", type=int,
+                   help="longer input side in pixels (default: detect.imgsz of the config)")
+    p.set_defaults(func=run_export)
+
+
+def run_export(args: argparse.Namespace) -> int:
+    """Handler of ``companion export detector``."""
+    from perception.detector import DetectorFileError
+    from perception.detector_config import load_detector_config
+    from perception.detector_train import export_onnx
+
+    if not args.weights.is_file():
+        raise DetectorFileError(f"{args.weights}: detector weights not found")
+    export_onnx(args.weights, args.out, args.imgsz or load_detector_config().detect.imgsz)
+    print(f"exported {args.weights} to {args.out}")
     return 0
 
 

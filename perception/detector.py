@@ -10,14 +10,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
 from app.errors import UserError
 from perception.detector_config import DetectConfig, load_detector_config
+from perception.detector_onnx import OnnxYolo
 
-DEFAULT_DETECTOR = Path(__file__).resolve().parents[1] / "assets" / "models" / "detector.pt"
+MODELS = Path(__file__).resolve().parents[1] / "assets" / "models"
+DEFAULT_DETECTOR = MODELS / "detector.onnx"  # the robot's runtime file, exported from:
+DEFAULT_TRAINED = MODELS / "detector.pt"     # the trained ultralytics weights
 
 
 class DetectorFileError(UserError):
@@ -57,27 +60,32 @@ class Detector(Protocol):
 
 
 class YoloDetector:
-    """An ultralytics YOLO model run on the CPU at the camera's resolution."""
+    """A YOLO model run on the CPU at the camera's resolution: an ONNX export
+    (``.onnx``, run by onnxruntime, the fast path) or any ultralytics weights file."""
 
     def __init__(self, weights: str | Path | None = None, imgsz: int | None = None,
                  conf: float | None = None, iou: float | None = None) -> None:
         """``weights`` None: the shipped detector; other arguments left at None take the
         value of ``detect:`` in ``app/defaults/detector.yaml``."""
-        from perception.ultralytics_offline import ultralytics_module
-
         path = Path(weights) if weights is not None else DEFAULT_DETECTOR
         if not path.is_file():
             raise DetectorFileError(f"{path}: detector weights not found (train them with "
                                     "`companion train detector`)")
-        yolo = ultralytics_module().YOLO
         try:
-            self.model = yolo(str(path), task="detect")
+            if path.suffix == ".onnx":
+                self.model: Any = OnnxYolo(path)
+            else:
+                from perception.ultralytics_offline import ultralytics_module
+
+                self.model = ultralytics_module().YOLO(str(path), task="detect")
             self.names: dict[int, str] = dict(self.model.names)
         except Exception as exc:
             raise DetectorFileError(f"{path}: not a readable YOLO weights file ({exc})") from None
         defaults = load_detector_config().detect
         self.path = path
         self.imgsz = defaults.imgsz if imgsz is None else imgsz
+        if isinstance(self.model, OnnxYolo):  # an export's input size is fixed in the file
+            self.imgsz = max(self.model.shape)
         self.conf = defaults.conf if conf is None else conf
         self.iou = defaults.iou if iou is None else iou
 
@@ -92,11 +100,14 @@ class YoloDetector:
         if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.uint8:
             raise ValueError(f"expected an (H, W, 3) uint8 RGB frame, got {frame.shape} "
                              f"{frame.dtype}")
-        bgr = np.ascontiguousarray(frame[..., ::-1])  # ultralytics reads arrays as OpenCV BGR
-        result = self.model.predict(bgr, imgsz=self.imgsz, conf=self.conf, iou=self.iou,
-                                    device="cpu", verbose=False)[0]
-        boxes = result.boxes
+        if isinstance(self.model, OnnxYolo):
+            found = self.model.predict(frame, self.conf, self.iou)
+        else:
+            bgr = np.ascontiguousarray(frame[..., ::-1])  # ultralytics reads arrays as BGR
+            boxes = self.model.predict(bgr, imgsz=self.imgsz, conf=self.conf, iou=self.iou,
+                                       device="cpu", verbose=False)[0].boxes
+            found = zip(boxes.cls.tolist(), boxes.conf.tolist(), boxes.xyxy.tolist(),
+                        strict=True)
         out = [Detection(self.names[int(c)], float(s), tuple(float(v) for v in xyxy))
-               for c, s, xyxy in zip(boxes.cls.tolist(), boxes.conf.tolist(),
-                                     boxes.xyxy.tolist(), strict=True)]
+               for c, s, xyxy in found]
         return sorted(out, key=lambda d: -d.conf)

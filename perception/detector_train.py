@@ -4,6 +4,7 @@ detector``). The data set comes from ``companion data detector`` (docs/detector.
 from __future__ import annotations
 
 import json
+import shutil
 import statistics
 import tempfile
 import time
@@ -15,7 +16,7 @@ import cv2
 from app.checkpoint import atomic_copy
 from app.errors import UserError
 from perception.detector import YoloDetector
-from perception.detector_config import TrainConfig
+from perception.detector_config import TrainConfig, load_detector_config
 from perception.ultralytics_offline import ultralytics_module
 
 
@@ -63,7 +64,31 @@ def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False
     best = out / "weights" / "best.pt"
     if export is not None:
         atomic_copy(best, export)
+        export_onnx(best, export.with_suffix(".onnx"), cfg.imgsz)
     return best
+
+
+def onnx_input_shape(imgsz: int, width: int, height: int) -> tuple[int, int]:
+    """(h, w) of the graph input for a ``width`` x ``height`` camera whose longer side is
+    scaled to ``imgsz``: each side rounded up to YOLO's stride of 32."""
+    scale = imgsz / max(width, height)
+    return tuple(-(-round(side * scale) // 32) * 32 for side in (height, width))
+
+
+def export_onnx(weights: Path, dst: Path, imgsz: int) -> Path:
+    """Export ultralytics ``weights`` to an ONNX graph at ``dst`` (written whole or not at
+    all) with the fixed input the head camera's frames letterbox to; see
+    :mod:`perception.detector_onnx`."""
+    image = load_detector_config().data.image
+    shape = onnx_input_shape(imgsz, image.width, image.height)
+    yolo = ultralytics_module().YOLO
+    with tempfile.TemporaryDirectory() as scratch:
+        src = Path(scratch) / weights.name
+        shutil.copyfile(weights, src)
+        onnx = yolo(str(src), task="detect").export(format="onnx", imgsz=shape, simplify=True,
+                                                     dynamic=False, device="cpu")
+        atomic_copy(Path(onnx), dst)
+    return dst
 
 
 def latency_ms(detector: YoloDetector, frames: list[Path], repeats: int = 100) -> float:
@@ -88,10 +113,10 @@ def evaluate_detector(weights: Path | None, data: Path, split: str = "test",
     data_yaml = _data_yaml(data)
     detector = YoloDetector(weights, imgsz=imgsz)
     with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes a val folder
-        metrics = detector.model.val(data=str(data_yaml.resolve()), split=split,
-                                     imgsz=detector.imgsz, iou=detector.iou, batch=16,
-                                     device="cpu", plots=False, verbose=False, workers=0,
-                                     project=scratch)
+        val = ultralytics_module().YOLO(str(detector.path), task="detect").val
+        metrics = val(data=str(data_yaml.resolve()), split=split, imgsz=detector.imgsz,
+                      iou=detector.iou, batch=16, device="cpu", plots=False, verbose=False,
+                      workers=0, project=scratch)
     box = metrics.box
     ap50 = dict(zip(box.ap_class_index.tolist(), box.ap50.tolist(), strict=True))
     ap = dict(zip(box.ap_class_index.tolist(), box.ap.tolist(), strict=True))

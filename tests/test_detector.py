@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from app.people import Appearance
-from perception.detector import DEFAULT_DETECTOR, DetectorFileError, YoloDetector
+from perception.detector import DEFAULT_DETECTOR, DEFAULT_TRAINED, DetectorFileError, YoloDetector
 from perception.detector_config import load_detector_config
 from perception.detector_data import DetectorScene, PersonSpec, SceneSpec
+from perception.detector_train import onnx_input_shape
 
 CFG = load_detector_config()
 
@@ -88,3 +89,27 @@ def test_corrupt_weights_named(tmp_path):
 def test_rejects_wrong_frame(detector):
     with pytest.raises(ValueError, match="uint8 RGB"):
         detector.detect(np.zeros((240, 320), np.uint8))
+
+
+def test_corrupt_onnx_named(tmp_path):
+    bad = tmp_path / "bad.onnx"
+    bad.write_bytes(b"\x00garbage" * 100)
+    with pytest.raises(DetectorFileError, match=r"bad\.onnx"):
+        YoloDetector(bad)
+
+
+def test_onnx_input_shape_fits_the_camera():
+    assert onnx_input_shape(320, 320, 240) == (256, 320)
+    assert onnx_input_shape(640, 320, 240) == (480, 640)
+
+
+def test_shipped_onnx_matches_the_trained_weights(scene, detector):
+    """The shipped ONNX file, run by our decoder, gives ultralytics' boxes for detector.pt."""
+    trained = YoloDetector(DEFAULT_TRAINED)
+    for seed in range(3):
+        frame = scene.render(scene.sample(np.random.SeedSequence([7, 2, seed])))
+        ours, theirs = detector.detect(frame.rgb), trained.detect(frame.rgb)
+        assert [d.cls for d in ours] == [d.cls for d in theirs]
+        for a, b in zip(ours, theirs, strict=True):
+            assert abs(a.conf - b.conf) < 1e-3
+            assert max(abs(x - y) for x, y in zip(a.box, b.box, strict=True)) < 0.05

@@ -19,10 +19,11 @@ from behaviours.skills.box_steering import has_face
 from perception.detector import Detection, YoloDetector
 
 ROOT = Path(__file__).resolve().parents[1]
-WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.pt",
+WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.onnx",
+                       ROOT / "assets" / "models" / "detector.pt",
                        ROOT / "runs" / "train-detector" / "weights" / "best.pt") if w.is_file()]
 pytestmark = pytest.mark.skipif(
-    not WEIGHTS, reason="no detector weights: neither assets/models/detector.pt nor "
+    not WEIGHTS, reason="no detector weights: neither assets/models/detector.onnx|.pt nor "
                         "runs/train-detector/weights/best.pt exists (companion train detector)")
 
 
