@@ -98,12 +98,11 @@ def add_export(sub: argparse._SubParsersAction) -> None:
 
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``companion export detector``."""
-    from perception.detector import DetectorFileError
     from perception.detector_config import load_detector_config
     from perception.detector_train import export_onnx
 
-    if not args.weights.is_file():
-        raise DetectorFileError(f"{args.weights}: detector weights not found")
+    if args.imgsz is not None and args.imgsz <= 0:
+        raise argparse.ArgumentTypeError("--imgsz must be > 0")
     export_onnx(args.weights, args.out, args.imgsz or load_detector_config().detect.imgsz)
     print(f"exported {args.weights} to {args.out}")
     return 0

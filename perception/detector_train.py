@@ -15,7 +15,7 @@ import cv2
 
 from app.checkpoint import atomic_copy
 from app.errors import UserError
-from perception.detector import YoloDetector
+from perception.detector import DetectorFileError, YoloDetector
 from perception.detector_config import TrainConfig, load_detector_config
 from perception.ultralytics_offline import ultralytics_module
 
@@ -79,14 +79,16 @@ def export_onnx(weights: Path, dst: Path, imgsz: int) -> Path:
     """Export ultralytics ``weights`` to an ONNX graph at ``dst`` (written whole or not at
     all) with the fixed input the head camera's frames letterbox to; see
     :mod:`perception.detector_onnx`."""
+    if weights.suffix != ".pt":
+        raise DetectorFileError(f"{weights}: expected ultralytics .pt weights to export")
     image = load_detector_config().data.image
     shape = onnx_input_shape(imgsz, image.width, image.height)
-    yolo = ultralytics_module().YOLO
-    with tempfile.TemporaryDirectory() as scratch:
+    YoloDetector(weights)  # names a missing or unreadable file
+    with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes beside the weights
         src = Path(scratch) / weights.name
         shutil.copyfile(weights, src)
-        onnx = yolo(str(src), task="detect").export(format="onnx", imgsz=shape, simplify=True,
-                                                     dynamic=False, device="cpu")
+        onnx = YoloDetector(src).model.export(format="onnx", imgsz=shape, simplify=True,
+                                              dynamic=False, device="cpu")
         atomic_copy(Path(onnx), dst)
     return dst
 

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from app.cli import main
 from app.people import Appearance
 from perception.detector import DEFAULT_DETECTOR, DEFAULT_TRAINED, DetectorFileError, YoloDetector
 from perception.detector_config import load_detector_config
@@ -113,3 +114,22 @@ def test_shipped_onnx_matches_the_trained_weights(scene, detector):
         for a, b in zip(ours, theirs, strict=True):
             assert abs(a.conf - b.conf) < 1e-3
             assert max(abs(x - y) for x, y in zip(a.box, b.box, strict=True)) < 0.05
+
+
+def test_export_command_writes_the_robot_file(tmp_path):
+    """`companion export detector` turns the shipped weights into an ONNX file the robot opens
+    with the camera's letterboxed input."""
+    out = tmp_path / "d.onnx"
+    assert main(["export", "detector", "--out", str(out)]) == 0
+    exported = YoloDetector(out)
+    assert exported.model.shape == (256, 320) and exported.names == {0: "person", 1: "face"}
+
+
+def test_export_names_a_bad_weights_file(tmp_path, capsys):
+    bad = tmp_path / "bad.pt"
+    bad.write_bytes(b"\x00garbage" * 100)
+    for weights in (bad, tmp_path / "nope.pt"):
+        assert main(["export", "detector", "--weights", str(weights),
+                     "--out", str(tmp_path / "x.onnx")]) == 2
+        assert weights.name in capsys.readouterr().err
+    assert not (tmp_path / "x.onnx").exists()
