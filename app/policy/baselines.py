@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from app.homeostasis import Homeostasis
-from app.personality import STAND_BY
+from app.personality import MOTIVATIONS, STAND_BY
 
 
 class RandomPolicy:
@@ -22,10 +24,16 @@ class RandomPolicy:
 
 class HomeostaticRule:
     """The classic rule (Cañamero; ROBEE): serve the strongest motivation once it rises above
-    its desired range, otherwise stand by."""
+    its desired range, otherwise stand by.
 
-    def __init__(self, homeostasis: Homeostasis) -> None:
-        self.upper = homeostasis.upper
+    ``anticipation`` (motivation name -> amount) makes the rule serve a motivation once it
+    comes within that amount of its upper bound instead of once it passes it; empty, it is
+    the classic rule. The DQN's demonstrations may come from such an anticipating rule."""
+
+    def __init__(self, homeostasis: Homeostasis,
+                 anticipation: Mapping[str, float] | None = None) -> None:
+        early = anticipation or {}
+        self.upper = homeostasis.upper - np.array([early.get(m, 0.0) for m in MOTIVATIONS])
         # serves[i]: the action that lowers drive (and motivation) i
         self.serves = np.full(len(homeostasis.upper), STAND_BY)
         for a, target in enumerate(homeostasis.target):

@@ -40,6 +40,9 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--episodes", type=int, default=100, help="test episodes (default 100)")
     p.add_argument("--seed", type=int, default=0, help="seed of the test episodes")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--demonstrator", action="store_true",
+                   help="also test the rule that demonstrated to the DQN in training: the "
+                   "homeostatic rule with the --config's train.demo_anticipation")
     p.add_argument("--out", type=Path, default=Path("runs/eval-policy"),
                    help="folder for metrics.json and plots")
     p.add_argument("--train-log", type=Path, default=SHIPPED_LOG,
@@ -73,21 +76,27 @@ def run_eval(args: argparse.Namespace) -> int:
     from app.policy.agent import DQNPolicy
     from app.policy.baselines import HomeostaticRule, RandomPolicy
     from app.policy.config import load_policy_config
-    from app.policy.evaluate import run_episodes, summarise
+    from app.policy.evaluate import paired_gain, run_episodes, summarise
     from app.policy.plots import episode_figures, training_curves
 
     if args.episodes < 1:
         raise SystemExit("companion eval policy: --episodes must be >= 1")
     homeostasis = Homeostasis(load_personality(args.personality))
-    env_cfg = load_policy_config(args.config).env
+    cfg = load_policy_config(args.config)
     policies = {"dqn": DQNPolicy.load(args.policy),
                 "random": RandomPolicy(len(ACTIONS), seed=args.seed),
                 "homeostatic_rule": HomeostaticRule(homeostasis)}
-    results, trace = {}, None
+    if args.demonstrator:
+        policies["demonstrator"] = HomeostaticRule(homeostasis, cfg.train.demo_anticipation)
+    results, trace, dqn_episodes = {}, None, None
     for name, policy in policies.items():
-        episodes, tr = run_episodes(policy, homeostasis, env_cfg, args.episodes, args.seed,
+        episodes, tr = run_episodes(policy, homeostasis, cfg.env, args.episodes, args.seed,
                                     trace=name == "dqn")
         results[name] = summarise(episodes)
+        if name == "dqn":  # first in the dict: the others are compared with it
+            dqn_episodes = episodes
+        else:
+            results[name]["dqn_reward_gain"] = paired_gain(dqn_episodes, episodes)
         trace = trace or tr
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "metrics.json").write_text(json.dumps(results, indent=2))
@@ -109,7 +118,9 @@ def format_table(results: dict[str, dict]) -> str:
     names = list(results)
     rows = [("RSR (%)", [f"{r['rsr'] * 100:.3f}" for r in results.values()]),
             ("worst episode RSR (%)", [f"{r['rsr_min'] * 100:.3f}" for r in results.values()]),
-            ("mean episode reward", [f"{r['mean_reward']:.1f}" for r in results.values()])]
+            ("mean episode reward", [f"{r['mean_reward']:.1f}" for r in results.values()]),
+            ("DQN reward minus this", [gain_text(r.get("dqn_reward_gain"))
+                                       for r in results.values()])]
     for a in ACTIONS:
         rows.append((f"decisions: {a}", [str(r["action_histogram"][a]) for r in
                                          results.values()]))
@@ -120,3 +131,8 @@ def format_table(results: dict[str, dict]) -> str:
     lines = [" " * width + "".join(f"{n:>18}" for n in names)]
     lines += [label.ljust(width) + "".join(f"{v:>18}" for v in vals) for label, vals in rows]
     return "\n".join(lines)
+
+
+def gain_text(gain: dict | None) -> str:
+    """``mean ± standard error`` of a paired reward difference, or blank for the DQN."""
+    return "" if gain is None else f"{gain['mean']:+.1f} ± {gain['stderr']:.1f}"

@@ -8,7 +8,7 @@ from typing import Annotated, Self
 from pydantic import Field, model_validator
 
 from app.config import StrictModel, load_model
-from app.personality import Action
+from app.personality import Action, Motivation
 
 DriveLevel = Annotated[float, Field(ge=0, le=1)]
 DriveRange = tuple[DriveLevel, DriveLevel]
@@ -112,6 +112,8 @@ class TrainConfig(StrictModel):
     demo_weight: float = Field(default=1.0, ge=0)
     demo_weight_rl: float | None = Field(default=None, ge=0)
     demo_margin: float = Field(default=0.8, ge=0)
+    demo_anticipation: dict[Motivation, Annotated[float, Field(ge=0, le=1)]] = Field(
+        default_factory=dict)
 
     @model_validator(mode="after")
     def _ordered(self) -> Self:

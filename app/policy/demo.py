@@ -31,13 +31,15 @@ def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: Tra
     ``discounts`` each action's discount (stored as ``tc.n_step``-step returns).
     With ``tc.demo_past_insecure`` those episodes do not end when a drive reaches the secure
     threshold, and ``tc.demo_initial_drives`` may start them higher than the DQN's own, so
-    that the memory also shows the rule bringing drives back from there."""
+    that the memory also shows the rule bringing drives back from there.
+    ``tc.demo_anticipation`` lets the rule serve some motivations before they leave their
+    desired range (:class:`~app.policy.baselines.HomeostaticRule`)."""
     if tc.demo_past_insecure:
         env_cfg = env_cfg.model_copy(update={"terminate_on_insecure": False})
     if tc.demo_initial_drives is not None:
         env_cfg = env_cfg.model_copy(update={"initial_drives": tc.demo_initial_drives})
     env = VecHomeostasisEnv(homeostasis, env_cfg, tc.num_envs, seed=tc.demo_seed)
-    rule = HomeostaticRule(homeostasis)
+    rule = HomeostaticRule(homeostasis, tc.demo_anticipation)
     memory = ReplayBuffer(tc.demo_transitions, len(MOTIVATIONS))
     writer = NStepWriter(memory, tc.n_step, tc.num_envs, len(MOTIVATIONS), discounts)
     every = np.arange(tc.num_envs)

@@ -50,3 +50,11 @@ def summarise(episodes: list[dict]) -> dict:
         "time_above_threshold": {d: sum(e["steps_above_threshold"][d] for e in episodes) / steps
                                  for d in DRIVES},
     }
+
+
+def paired_gain(episodes: list[dict], baseline: list[dict]) -> dict:
+    """Mean and standard error of the per-episode reward of ``episodes`` minus that of
+    ``baseline``, episode k of each having started from the same state."""
+    gain = np.array([e["return"] - b["return"] for e, b in zip(episodes, baseline, strict=True)])
+    stderr = gain.std(ddof=1) / np.sqrt(len(gain)) if len(gain) > 1 else float("nan")
+    return {"mean": float(gain.mean()), "stderr": float(stderr)}
