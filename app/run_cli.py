@@ -7,6 +7,8 @@ import json
 import os
 from pathlib import Path
 
+from app.cli_args import integer, real
+
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
     """Register ``run``."""
@@ -16,8 +18,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                        "timeline.csv, dialogue.jsonl, metrics.json, plots/, frames/ and "
                        "tree.txt into --out.")
     p.add_argument("scenario", type=Path, help="scenario YAML file")
-    p.add_argument("--duration", type=float, help="simulated seconds (default: the scenario's)")
-    p.add_argument("--seed", type=int, help="seed (default: the scenario's)")
+    p.add_argument("--duration", type=real(above=0),
+                   help="simulated seconds (default: the scenario's)")
+    p.add_argument("--seed", type=integer(0), help="seed (default: the scenario's)")
     p.add_argument("--out", type=Path, help="run folder (default: runs/<scenario name>)")
     p.add_argument("--gui", action="store_true", help="open the PyBullet window")
     p.add_argument("--policy", type=Path, help="policy file (default: the shipped DQN)")
@@ -40,12 +43,8 @@ def run_command(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
     update: dict = {}
     if args.duration is not None:
-        if args.duration <= 0:
-            raise UserError("--duration must be > 0")
         update["duration"] = args.duration
     if args.seed is not None:
-        if args.seed < 0:
-            raise UserError("--seed must be >= 0")
         update["seed"] = args.seed
     scenario = scenario.model_copy(update=update)
     if args.gui and not os.environ.get("DISPLAY"):

@@ -7,6 +7,7 @@ import json
 import sys
 from pathlib import Path
 
+from app.cli_args import integer
 from dialogue.style_io import CLASSIFIER_FILE, DEFAULT_MODEL_DIR, LM_FILE, STYLE_FILE
 
 MODEL_FILES = (STYLE_FILE, CLASSIFIER_FILE, LM_FILE)
@@ -45,7 +46,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--model-dir", type=Path, default=DEFAULT_MODEL_DIR,
                    help="folder with style.pt, classifier.pt and lm.pt")
     p.add_argument("--split", choices=["test", "valid"], default="test")
-    p.add_argument("--limit", type=int, help="evaluate this many sentences (half per style)")
+    p.add_argument("--limit", type=integer(2), help="evaluate this many sentences (half per style)")
     p.add_argument("--beam", type=int, help="beam size (default: the model's)")
     p.add_argument("--data", type=Path, help="folder with the Yelp sentiment.* files")
     p.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
@@ -101,8 +102,6 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.style import torch_threads
     from dialogue.style_eval import evaluate, examples_markdown, format_summary
 
-    if args.limit is not None and args.limit < 2:
-        raise SystemExit("companion eval style: --limit must be >= 2")
     with torch_threads(args.threads):
         result = evaluate(args.model_dir, args.split, args.limit, args.beam,
                           args.data.resolve() if args.data else None)

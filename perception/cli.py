@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from app.cli_args import integer, real
+
 
 def add_data(sub: argparse._SubParsersAction) -> None:
     """Register ``data detector``."""
@@ -13,9 +15,9 @@ def add_data(sub: argparse._SubParsersAction) -> None:
                        "randomised households: images/, labels/ (YOLO), data.yaml and "
                        "examples/ with boxes drawn, in --out. Resumable.")
     p.add_argument("--out", type=Path, required=True, help="data set folder")
-    p.add_argument("--train", type=int, help="train frames (default from the config)")
-    p.add_argument("--val", type=int, help="validation frames")
-    p.add_argument("--test", type=int, help="test frames")
+    p.add_argument("--train", type=integer(0), help="train frames (default from the config)")
+    p.add_argument("--val", type=integer(0), help="validation frames")
+    p.add_argument("--test", type=integer(0), help="test frames")
     p.add_argument("--seed", type=int, help="base seed (default from the config)")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -32,9 +34,6 @@ def run_data(args: argparse.Namespace) -> int:
     cfg = load_detector_config(args.config).data
     splits = {k: v for k in ("train", "val", "test")
               if (v := getattr(args, k)) is not None}
-    for name, value in splits.items():
-        if value < 0:
-            raise argparse.ArgumentTypeError(f"--{name} must be >= 0")
     update: dict = {"splits": cfg.splits.model_copy(update=splits)}
     if args.seed is not None:
         update["seed"] = args.seed
@@ -57,7 +56,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                    help="data set folder (or its data.yaml)")
     p.add_argument("--out", type=Path, default=Path("runs/train-detector"), help="run folder")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
-    p.add_argument("--epochs", type=int, help="override train.epochs")
+    p.add_argument("--epochs", type=integer(1), help="override train.epochs")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--export", type=Path,
                    help="copy the best weights here (e.g. assets/models/detector.pt) and "
@@ -72,8 +71,6 @@ def run_train(args: argparse.Namespace) -> int:
 
     cfg = load_detector_config(args.config).train
     if args.epochs is not None:
-        if args.epochs <= 0:
-            raise argparse.ArgumentTypeError("--epochs must be > 0")
         cfg = cfg.model_copy(update={"epochs": args.epochs})
     best = train_detector(cfg, args.data, args.out, resume=args.resume, export=args.export)
     print(f"best weights: {best}" + (f" (copied to {args.export})" if args.export else ""))
@@ -91,7 +88,7 @@ def add_export(sub: argparse._SubParsersAction) -> None:
                    help="ultralytics weights (default: the shipped detector.pt)")
     p.add_argument("--out", type=Path, default=DEFAULT_DETECTOR,
                    help="ONNX file (default: the shipped detector.onnx)")
-    p.add_argument("--imgsz", type=int,
+    p.add_argument("--imgsz", type=integer(1),
                    help="longer input side in pixels (default: detect.imgsz of the config)")
     p.set_defaults(func=run_export)
 
@@ -101,8 +98,6 @@ def run_export(args: argparse.Namespace) -> int:
     from perception.detector_config import load_detector_config
     from perception.detector_train import export_onnx
 
-    if args.imgsz is not None and args.imgsz <= 0:
-        raise argparse.ArgumentTypeError("--imgsz must be > 0")
     export_onnx(args.weights, args.out, args.imgsz or load_detector_config().detect.imgsz)
     print(f"exported {args.weights} to {args.out}")
     return 0
@@ -117,6 +112,8 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--data", type=Path, default=Path("runs/detector-data"),
                    help="data set folder (or its data.yaml)")
     p.add_argument("--split", default="test", choices=("train", "val", "test"))
+    p.add_argument("--iou", type=real(above=0, below=1),
+                   help="NMS overlap, 0 < IOU < 1 (default: the robot's detect.iou)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, help="also write the figures to this JSON file")
     p.set_defaults(func=run_eval)
@@ -128,7 +125,7 @@ def run_eval(args: argparse.Namespace) -> int:
 
     from perception.detector_train import evaluate_detector, write_json
 
-    figures = evaluate_detector(args.weights, args.data, args.split)
+    figures = evaluate_detector(args.weights, args.data, args.split, iou=args.iou)
     if args.out:
         write_json(figures, args.out)
     if args.json:

@@ -108,12 +108,12 @@ def latency_ms(detector: YoloDetector, frames: list[Path], repeats: int = 100) -
 
 
 def evaluate_detector(weights: Path | None, data: Path, split: str = "test",
-                      imgsz: int | None = None) -> dict[str, Any]:
+                      imgsz: int | None = None, iou: float | None = None) -> dict[str, Any]:
     """mAP figures on ``split`` of the data set and the median CPU latency per frame. Boxes
-    are merged with the NMS overlap the robot uses (``detect.iou``); every confidence counts
-    (ultralytics' 0.001), as mAP needs the whole precision-recall curve."""
+    are merged with the NMS overlap ``iou`` (default: the robot's ``detect.iou``); every
+    confidence counts (ultralytics' 0.001), as mAP needs the whole precision-recall curve."""
     data_yaml = _data_yaml(data)
-    detector = YoloDetector(weights, imgsz=imgsz)
+    detector = YoloDetector(weights, imgsz=imgsz, iou=iou)
     with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes a val folder
         val = ultralytics_module().YOLO(str(detector.path), task="detect").val
         metrics = val(data=str(data_yaml.resolve()), split=split, imgsz=detector.imgsz,

@@ -10,6 +10,8 @@ import argparse
 import json
 from pathlib import Path
 
+from app.cli_args import integer
+
 DEFAULT_MODEL = Path(__file__).resolve().parents[1] / "assets" / "models" / "vqg.pt"
 
 
@@ -21,7 +23,8 @@ def add_data(sub: argparse._SubParsersAction) -> None:
                        "questions/{split}.jsonl and meta.json in --out. Resumable.")
     p.add_argument("--out", type=Path, required=True, help="data set folder")
     for split in ("train", "val", "test"):
-        p.add_argument(f"--{split}", type=int, help=f"{split} images (default from the config)")
+        p.add_argument(f"--{split}", type=integer(0),
+                       help=f"{split} images (default from the config)")
     p.add_argument("--seed", type=int, help="base seed (default from the config)")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg_data.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -58,10 +61,10 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to evaluate")
-    p.add_argument("--images", type=int, help="test images (default eval.images: 50)")
+    p.add_argument("--images", type=integer(1), help="test images (default eval.images: 50)")
     p.add_argument("--split", choices=["test", "val"], default="test",
                    help="score these images (val: to tune decode settings, default test)")
-    p.add_argument("--samples", type=int, help="latent samples per image (default 100)")
+    p.add_argument("--samples", type=integer(1), help="latent samples per image (default 100)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-eval"),
                    help="folder for metrics.json")
@@ -79,7 +82,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                        description="Print up to -n distinct questions about an RGB image, "
                        "best first, one a line.")
     p.add_argument("image", type=Path, metavar="IMAGE.png")
-    p.add_argument("-n", type=int, default=10, help="how many questions (default 10)")
+    p.add_argument("-n", type=integer(1), default=10, help="how many questions (default 10)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to use")
     p.add_argument("--seed", type=int, default=0, help="seed of the latent codes")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml (decode)")
@@ -98,7 +101,6 @@ def _config(args: argparse.Namespace):
 
 def run_data(args: argparse.Namespace) -> int:
     """Handler of ``companion data vqg``."""
-    from app.errors import UserError
     from perception.vqg_data import load_vqg_data_config, write_vqg_dataset
 
     cfg = load_vqg_data_config(args.config)
@@ -108,8 +110,6 @@ def run_data(args: argparse.Namespace) -> int:
     for name in ("train", "val", "test"):
         value = getattr(args, name)
         if value is not None:
-            if value < 0:
-                raise UserError(f"--{name} must be >= 0")
             splits[name] = value
     write_vqg_dataset(args.out, cfg, splits, progress=not args.no_progress)
     print(f"VQG data set in {args.out} ({', '.join(f'{k} {v}' for k, v in splits.items())})")
@@ -133,14 +133,11 @@ def run_train(args: argparse.Namespace) -> int:
 
 def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval vqg``."""
-    from app.errors import UserError
     from perception.vqg_eval import evaluate, format_table, run_ablations
 
     cfg = _config(args)
     images = args.images or cfg.eval.images
     samples = args.samples or cfg.eval.samples
-    if images <= 0 or samples <= 0:
-        raise UserError("--images and --samples must be > 0")
     if args.ablations is not None:
         ev = cfg.eval.model_copy(update={"images": images, "samples": samples})
         rows = run_ablations(cfg.model_copy(update={"eval": ev}), args.ablations,
@@ -170,8 +167,6 @@ def run_ask(args: argparse.Namespace) -> int:
     from perception.vqg import VqgQuestionGenerator
     from perception.vqg_config import load_vqg_config
 
-    if args.n <= 0:
-        raise UserError("-n must be > 0")
     bgr = cv2.imread(str(args.image), cv2.IMREAD_COLOR)
     if bgr is None:
         raise UserError(f"{args.image}: cannot read the image")

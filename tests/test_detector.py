@@ -3,6 +3,7 @@ empty room, and reports bad weight files clearly."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -133,3 +134,30 @@ def test_export_names_a_bad_weights_file(tmp_path, capsys):
                      "--out", str(tmp_path / "x.onnx")]) == 2
         assert weights.name in capsys.readouterr().err
     assert not (tmp_path / "x.onnx").exists()
+
+
+@pytest.fixture(scope="module")
+def test_frames(tmp_path_factory):
+    """The first six frames of the rendered test split."""
+    out = tmp_path_factory.mktemp("detector-data")
+    assert main(["data", "detector", "--out", str(out), "--train", "0", "--val", "0",
+                 "--test", "6", "--no-progress"]) == 0
+    return out
+
+
+def _eval_figures(data, capsys, *extra: str) -> dict:
+    assert main(["eval", "detector", "--data", str(data), "--json", *extra]) == 0
+    return json.loads(capsys.readouterr().out.splitlines()[-1])
+
+
+def test_eval_scores_the_shipped_detector_at_the_robots_nms(test_frames, capsys):
+    figures = _eval_figures(test_frames, capsys)
+    assert figures["weights"].endswith("detector.onnx")
+    assert figures["nms_iou"] == CFG.detect.iou
+    # the model card's test-split bars, on a sample of that split
+    assert figures["person_map50"] >= 0.95 and figures["person_map50_95"] >= 0.75
+    assert figures["face_map50"] >= 0.90
+    merged = _eval_figures(test_frames, capsys, "--iou", "0.01")
+    assert merged["nms_iou"] == 0.01
+    # an overlap that low merges neighbouring people: the boxes get worse, not better
+    assert merged["person_map50_95"] < figures["person_map50_95"]

@@ -6,6 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
+from app.cli_args import integer
 from app.policy.agent import DEFAULT_POLICY
 
 MODELS_DIR = DEFAULT_POLICY.parent
@@ -37,7 +38,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--policy", type=Path, default=DEFAULT_POLICY, help="policy file to test")
     p.add_argument("--config", type=Path, help="policy YAML (its env section is used)")
     p.add_argument("--personality", type=Path, help="personality YAML")
-    p.add_argument("--episodes", type=int, default=100, help="test episodes (default 100)")
+    p.add_argument("--episodes", type=integer(1), default=100, help="test episodes (default 100)")
     p.add_argument("--seed", type=int, default=0, help="seed of the test episodes")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--demonstrator", action="store_true",
@@ -79,8 +80,6 @@ def run_eval(args: argparse.Namespace) -> int:
     from app.policy.evaluate import paired_gain, run_episodes, summarise
     from app.policy.plots import episode_figures, training_curves
 
-    if args.episodes < 1:
-        raise SystemExit("companion eval policy: --episodes must be >= 1")
     homeostasis = Homeostasis(load_personality(args.personality))
     cfg = load_policy_config(args.config)
     policies = {"dqn": DQNPolicy.load(args.policy),
