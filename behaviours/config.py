@@ -143,7 +143,6 @@ class BehaviourConfig(StrictModel):
     homeostasis_step_s: PositiveFloat
     encouragement_s: float = Field(ge=0)
     emotion_hold_s: float = Field(ge=0)
-    failure_standby_s: float = Field(ge=0)
     preempt_energy: float = Field(gt=0, le=1)
     perception: PerceptionConfig
     pid: PidConfig
