@@ -197,3 +197,19 @@ def test_human_present_counts_people_near_by_their_depth(detector, pose, distanc
         sense.tick_once()
         assert people_in_view(house, py_trees.blackboard.Blackboard.get("/detections"))
         assert py_trees.blackboard.Blackboard.get("/stimuli")[1] == float(present)
+
+
+def test_a_robot_wedged_against_furniture_frees_itself_to_search(detector):
+    """Beside the nursing home's dining table, the robot's arm stops a counter-clockwise
+    turn and, a little further round, a clockwise one: the search reverses its turn, then
+    backs up and steps aside, instead of standing stuck until the timeout."""
+    config = load_behaviour_config()
+    config = config.model_copy(
+        update={"find_people": config.find_people.model_copy(update={"timeout_s": 8.0})})
+    base = load_scenario(ROOT / "worlds" / "nursing_home.yaml")
+    wedged = Placement(x=1.8755, y=2.5662, yaw=math.degrees(-1.0247))
+    scenario = base.model_copy(update={"people": (), "robot": base.robot.model_copy(
+        update={"start": wedged})})
+    status, _, (x, y, _), _ = find(scenario, detector, config, max_seconds=10.0)
+    assert status == Status.FAILURE  # nobody there
+    assert math.dist((x, y), (wedged.x, wedged.y)) > 0.3

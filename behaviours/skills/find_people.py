@@ -48,6 +48,7 @@ class ApproachPerson(BoxSteering):
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
         self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
+        self._turn, self._reversed = 1.0, -math.inf   # search turn: counter-clockwise first
         # floor spot of a person given up on -> ignored until (s)
         self._ignored: dict[tuple[float, float], float] = {}
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
@@ -62,6 +63,7 @@ class ApproachPerson(BoxSteering):
         self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
         self._side, self._escape_start = 1.0, -math.inf
+        self._turn, self._reversed = 1.0, -math.inf
         self._ignored, self._vanished, self._spot = {}, {}, None
         self.detour.cancel()
         self._detours = 0
@@ -91,7 +93,8 @@ class ApproachPerson(BoxSteering):
         """No confirmed person in view: hold still while the one followed may just have
         been missed, else turn counter-clockwise. Always the same way: turning towards where
         a box was last seen lets two passing false positives bounce the robot between
-        them."""
+        them. Only a turn the base refuses (an arm against a table) is reversed, and one
+        refused both ways within a full turn (wedged) starts the escape of :meth:`_avoid`."""
         if self.now - self._seen < self.cfg.lost_after_s:
             self.command(0.0, 0.0, 0.0)
             return
@@ -105,7 +108,12 @@ class ApproachPerson(BoxSteering):
             self.approach.reset()
             self._seen = self._close_since = self._near_since = -math.inf
             self._faces = 0
-        self.command(0.0, 0.0, self.cfg.search_turn_speed)
+        vx, vy, wz = self.house.robot.base_velocity
+        if self.house.robot.blocked and vx == vy == 0.0 and wz * self._turn > 0:
+            if self.now - self._reversed < math.tau / self.cfg.search_turn_speed:
+                self._escape_start = self.now
+            self._turn, self._reversed = -self._turn, self.now
+        self.command(*self._avoid(0.0, self._turn * self.cfg.search_turn_speed))
 
     def _steer(self, person: Detection, detections: list[Detection], dt: float) -> Status:
         cfg = self.cfg
