@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Protocol
 
 import numpy as np
 
@@ -59,6 +59,29 @@ class Detector(Protocol):
         ...
 
 
+class UltralyticsYolo:
+    """ultralytics weights behind the same ``names`` / ``imgsz`` / ``predict`` as
+    :class:`~perception.detector_onnx.OnnxYolo`."""
+
+    def __init__(self, path: Path, imgsz: int) -> None:
+        """Open ``path``; raises whatever ultralytics raises for an unreadable file."""
+        from perception.ultralytics_offline import ultralytics_module
+
+        self.yolo = ultralytics_module().YOLO(str(path), task="detect")
+        self.names: dict[int, str] = dict(self.yolo.names)
+        self.imgsz = imgsz
+
+    def predict(self, frame: np.ndarray, conf: float,
+                iou: float) -> list[tuple[int, float, tuple[float, float, float, float]]]:
+        """(class index, confidence, pixel ``x0, y0, x1, y1``) of the boxes kept in ``frame``
+        (RGB uint8)."""
+        bgr = np.ascontiguousarray(frame[..., ::-1])  # ultralytics reads arrays as BGR
+        boxes = self.yolo.predict(bgr, imgsz=self.imgsz, conf=conf, iou=iou, device="cpu",
+                                  verbose=False)[0].boxes
+        return list(zip(boxes.cls.tolist(), boxes.conf.tolist(), boxes.xyxy.tolist(),
+                        strict=True))
+
+
 class YoloDetector:
     """A YOLO model run on the CPU at the camera's resolution: an ONNX export
     (``.onnx``, run by onnxruntime, the fast path) or any ultralytics weights file."""
@@ -66,26 +89,22 @@ class YoloDetector:
     def __init__(self, weights: str | Path | None = None, imgsz: int | None = None,
                  conf: float | None = None, iou: float | None = None) -> None:
         """``weights`` None: the shipped detector; other arguments left at None take the
-        value of ``detect:`` in ``app/defaults/detector.yaml``."""
+        value of ``detect:`` in ``app/defaults/detector.yaml`` (an ONNX export's input size
+        is fixed in the file)."""
         path = Path(weights) if weights is not None else DEFAULT_DETECTOR
         if not path.is_file():
             raise DetectorFileError(f"{path}: detector weights not found (train them with "
                                     "`companion train detector`)")
+        defaults = load_detector_config().detect
         try:
-            if path.suffix == ".onnx":
-                self.model: Any = OnnxYolo(path)
-            else:
-                from perception.ultralytics_offline import ultralytics_module
-
-                self.model = ultralytics_module().YOLO(str(path), task="detect")
-            self.names: dict[int, str] = dict(self.model.names)
+            self.model: OnnxYolo | UltralyticsYolo = (
+                OnnxYolo(path) if path.suffix == ".onnx"
+                else UltralyticsYolo(path, defaults.imgsz if imgsz is None else imgsz))
         except Exception as exc:
             raise DetectorFileError(f"{path}: not a readable YOLO weights file ({exc})") from None
-        defaults = load_detector_config().detect
         self.path = path
-        self.imgsz = defaults.imgsz if imgsz is None else imgsz
-        if isinstance(self.model, OnnxYolo):  # an export's input size is fixed in the file
-            self.imgsz = max(self.model.shape)
+        self.names = self.model.names
+        self.imgsz = self.model.imgsz
         self.conf = defaults.conf if conf is None else conf
         self.iou = defaults.iou if iou is None else iou
 
@@ -100,14 +119,7 @@ class YoloDetector:
         if frame.ndim != 3 or frame.shape[2] != 3 or frame.dtype != np.uint8:
             raise ValueError(f"expected an (H, W, 3) uint8 RGB frame, got {frame.shape} "
                              f"{frame.dtype}")
-        if isinstance(self.model, OnnxYolo):
-            found = self.model.predict(frame, self.conf, self.iou)
-        else:
-            bgr = np.ascontiguousarray(frame[..., ::-1])  # ultralytics reads arrays as BGR
-            boxes = self.model.predict(bgr, imgsz=self.imgsz, conf=self.conf, iou=self.iou,
-                                       device="cpu", verbose=False)[0].boxes
-            found = zip(boxes.cls.tolist(), boxes.conf.tolist(), boxes.xyxy.tolist(),
-                        strict=True)
+        found = self.model.predict(frame, self.conf, self.iou)
         out = [Detection(self.names[int(c)], float(s), tuple(float(v) for v in xyxy))
                for c, s, xyxy in found]
         return sorted(out, key=lambda d: -d.conf)

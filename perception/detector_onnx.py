@@ -32,6 +32,11 @@ class OnnxYolo:
         self.shape: tuple[int, int] = tuple(ast.literal_eval(meta["imgsz"]))  # (h, w)
         self.input = self.session.get_inputs()[0].name
 
+    @property
+    def imgsz(self) -> int:
+        """The longer side of the graph's fixed input."""
+        return max(self.shape)
+
     def _letterbox(self, frame: np.ndarray) -> tuple[np.ndarray, float, tuple[float, float]]:
         """``frame`` scaled to fit the input and padded around its centre; the scale and the
         (x, y) padding."""

@@ -87,8 +87,8 @@ def export_onnx(weights: Path, dst: Path, imgsz: int) -> Path:
     with tempfile.TemporaryDirectory() as scratch:  # ultralytics writes beside the weights
         src = Path(scratch) / weights.name
         shutil.copyfile(weights, src)
-        onnx = YoloDetector(src).model.export(format="onnx", imgsz=shape, simplify=True,
-                                              dynamic=False, device="cpu")
+        onnx = ultralytics_module().YOLO(str(src), task="detect").export(
+            format="onnx", imgsz=shape, simplify=True, dynamic=False, device="cpu")
         atomic_copy(Path(onnx), dst)
     return dst
 
