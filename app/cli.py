@@ -13,8 +13,9 @@ import sys
 
 from app import __version__
 
-DOMAINS = ["app.policy.cli", "dialogue.cli", "dialogue.style_cli", "dialogue.chat_cli",
-           "perception.cli", "perception.vqg_cli", "app.run_cli"]
+DOMAINS = ["app.mind.policy.cli", "dialogue.cli", "dialogue.style.training.cli",
+           "dialogue.chat.training.cli", "perception.detector.training.cli",
+           "perception.vqg.training.cli", "app.run_cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
           "data": "generate a data set", "export": "export a trained model for the robot"}
 
@@ -43,7 +44,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; configuration and model-file errors exit with status 2."""
-    from app.errors import UserError
+    from app.core.errors import UserError
 
     args = build_parser().parse_args(argv)
     try:

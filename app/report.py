@@ -10,7 +10,7 @@ from typing import IO, Any
 
 import numpy as np
 
-from app.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
 
 
 class TimelineWriter:

@@ -20,9 +20,9 @@ import numpy as np
 import py_trees
 import yaml
 
-from app.household import Simulation
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
-from app.scenario import Scenario
+from app.sim.scenario import Scenario
+from app.sim.simulation import Simulation
 
 
 class FrameSaver:
@@ -64,14 +64,14 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     """Build the world, the robot's services (detector, dialogue, question generator,
     policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
     ask-question skill fails (it has no canned questions)."""
-    from app.policy.agent import DEFAULT_POLICY, DQNPolicy
+    from app.mind.policy.agent import DEFAULT_POLICY, DQNPolicy
     from behaviours.config import load_behaviour_config
     from behaviours.context import make_household
     from behaviours.tree import build_tree
-    from dialogue.household_dialogue import household_dialogue
-    from perception.detector import YoloDetector
-    from perception.detector_config import load_detector_config
-    from perception.vqg import DEFAULT_VQG_MODEL, VqgQuestionGenerator
+    from dialogue.factory import household_dialogue
+    from perception.detector.config import load_detector_config
+    from perception.detector.yolo import YoloDetector
+    from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)

@@ -7,7 +7,7 @@ import json
 import os
 from pathlib import Path
 
-from app.cli_args import integer, real
+from app.core.cli_args import integer, real
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -36,9 +36,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
 
 def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
-    from app.errors import UserError
+    from app.core.errors import UserError
     from app.run import run_scenario
-    from app.scenario import load_scenario
+    from app.sim.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
     update: dict = {}

@@ -6,9 +6,8 @@ from pathlib import Path
 
 from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveFloat, PositiveInt
 
-from app.config import StrictModel, load_model
-
-REPO_ROOT = Path(__file__).resolve().parents[1]
+from app.core.config_files import StrictModel, load_model
+from app.core.paths import REPO_ROOT
 
 
 class PidGains(StrictModel):
@@ -34,7 +33,7 @@ class PerceptionConfig(StrictModel):
 
 
 class PidConfig(StrictModel):
-    """Navigation controllers: heading and distance to a goal (app/navigation.py)."""
+    """Navigation controllers: heading and distance to a goal (app/sim/navigation.py)."""
 
     heading: PidGains
     distance: PidGains

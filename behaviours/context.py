@@ -13,14 +13,14 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from app.events import EventLog
-from app.homeostasis import Homeostasis
-from app.navigation import PathFollower
-from app.robot import Robot
-from app.speech import Speaker
-from app.world import World
+from app.core.events import EventLog
+from app.mind.homeostasis import Homeostasis
+from app.sim.navigation import PathFollower
+from app.sim.robot import Robot
+from app.sim.speech import Speaker
+from app.sim.world import World
 from behaviours.config import BehaviourConfig
-from perception.detector import Detector
+from perception.detector.yolo import Detector
 
 
 class QuestionGenerator(Protocol):
@@ -82,7 +82,7 @@ KEYS = {
     "motivations": "np.ndarray (6,): eq. 3.4",
     "mood": "dict: value (eq. 3.6) and positive (bool)",
     "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
-    "action": "str | None: the running action (app.personality.ACTIONS)",
+    "action": "str | None: the running action (app.mind.personality.ACTIONS)",
     "relieving": "bool: the running skill is satisfying its drive now",
     "progress": "int: homeostasis steps the running skill has been relieving",
     "act_status": "py_trees Status of the act subtree at the last tick",
@@ -98,14 +98,14 @@ KEYS = {
 def make_household(sim: Any, config: BehaviourConfig | None = None,
                    detector: Detector | None = None, events_path: Any = None,
                    audio_dir: Any = None, **services: Any) -> Household:
-    """A :class:`Household` around an :class:`app.household.Simulation`: the scenario's
+    """A :class:`Household` around an :class:`app.sim.simulation.Simulation`: the scenario's
     personality, a clock that follows the simulation, an event log (in memory unless
     ``events_path``) and a speaker (WAVs into ``audio_dir`` when given). ``services``
     fills ``dialogue`` / ``questions``. The py_trees blackboard is cleared: build the
     household before its behaviours."""
     import py_trees
 
-    from app.personality import load_personality
+    from app.mind.personality import load_personality
     from behaviours.config import load_behaviour_config
 
     py_trees.blackboard.Blackboard.clear()

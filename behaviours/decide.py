@@ -9,7 +9,7 @@ from typing import Protocol
 import numpy as np
 from py_trees.common import Status
 
-from app.personality import DRIVES
+from app.mind.personality import DRIVES
 from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour
 
@@ -17,7 +17,7 @@ ENERGY = DRIVES.index("energy")
 
 
 class Policy(Protocol):
-    """What the tree needs from a decision maker (``app.policy.agent.DQNPolicy``)."""
+    """What the tree needs from a decision maker (``app.mind.policy.agent.DQNPolicy``)."""
 
     def act(self, motivations: np.ndarray) -> str:
         """The action to run for these motivations."""

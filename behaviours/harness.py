@@ -6,7 +6,7 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Status
 
-from app.household import Simulation
+from app.sim.simulation import Simulation
 from behaviours.context import Household
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.sense import Sense

@@ -1,14 +1,14 @@
 """Homeostasis tick: once per homeostasis step (one simulated second by default) advance the
 drives by the running action (Table 4.1 growth, Table 4.2 relief while the skill relieves),
 then compute the motivations (eq. 3.4) and the mood (eq. 3.6). The same
-:class:`app.homeostasis.Homeostasis` drives the DQN's training environment."""
+:class:`app.mind.homeostasis.Homeostasis` drives the DQN's training environment."""
 
 from __future__ import annotations
 
 import numpy as np
 from py_trees.common import Status
 
-from app.personality import ACTIONS, DRIVES, STAND_BY
+from app.mind.personality import ACTIONS, DRIVES, STAND_BY
 from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour
 

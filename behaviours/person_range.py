@@ -8,9 +8,9 @@ import math
 
 import numpy as np
 
-from app.robot import Robot
+from app.sim.robot import Robot
 from behaviours.config import PerceptionConfig
-from perception.detector import Detection
+from perception.detector.yolo import Detection
 
 
 class PersonRange:

@@ -16,11 +16,11 @@ from __future__ import annotations
 import numpy as np
 from py_trees.common import Status
 
-from app.world import EmotionEvent, EncourageEvent, SayEvent
+from app.sim.world import EmotionEvent, EncourageEvent, SayEvent
 from behaviours.context import Household
 from behaviours.person_range import PersonRange
 from behaviours.skill import HouseholdBehaviour, people_in_view
-from perception.detector import Detection
+from perception.detector.yolo import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
 

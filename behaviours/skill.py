@@ -6,9 +6,9 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Access, Status
 
-from app.personality import ACTIONS
+from app.mind.personality import ACTIONS
 from behaviours.context import KEYS, Household
-from perception.detector import Detection
+from perception.detector.yolo import Detection
 
 
 class HouseholdBehaviour(py_trees.behaviour.Behaviour):

@@ -9,7 +9,7 @@
     └── Act           status mirrored to the blackboard's ``act_status``
         └── Actions (selector)
             ├── charge?  guard: action == "charge"  -> the charge skill subtree
-            ├── ...      one guarded subtree per action of app.personality.ACTIONS
+            ├── ...      one guarded subtree per action of app.mind.personality.ACTIONS
             └── stand_by?
 
 The guards are py_trees ``EternalGuard`` decorators: when Decide switches the action the
@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import py_trees
 
-from app.personality import ACTIONS
+from app.mind.personality import ACTIONS
 from behaviours.context import Household
 from behaviours.decide import Decide, Policy
 from behaviours.homeostasis_tick import HomeostasisTick

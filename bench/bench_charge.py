@@ -22,10 +22,10 @@ from typing import Any
 import numpy as np
 from py_trees.common import Status
 
-from app.household import Simulation
-from app.navigation import Navigator
-from app.robot import wrap_angle
-from app.scenario import Scenario, load_scenario
+from app.sim.navigation import Navigator
+from app.sim.robot import wrap_angle
+from app.sim.scenario import Scenario, load_scenario
+from app.sim.simulation import Simulation
 from behaviours.config import BehaviourConfig, load_behaviour_config
 from behaviours.context import make_household
 from behaviours.skills.charge import approach

@@ -12,12 +12,12 @@ import time
 
 import numpy as np
 
-from app.homeostasis import Homeostasis
-from app.personality import load_personality
-from app.policy.agent import DQNPolicy
-from app.policy.baselines import HomeostaticRule
-from app.policy.config import load_policy_config
-from app.policy.env import VecHomeostasisEnv
+from app.mind.homeostasis import Homeostasis
+from app.mind.personality import load_personality
+from app.mind.policy.agent import DQNPolicy
+from app.mind.policy.baselines import HomeostaticRule
+from app.mind.policy.config import load_policy_config
+from app.mind.policy.env import VecHomeostasisEnv
 
 
 def measure(policy, envs: int, seconds: float) -> dict:

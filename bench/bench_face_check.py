@@ -23,8 +23,8 @@ from PIL import Image
 
 from behaviours.config import load_behaviour_config
 from behaviours.skills.box_steering import has_face
-from perception.detector import Detection, YoloDetector
-from perception.detector_data import CLASSES, Box
+from perception.detector.training.data import CLASSES, Box
+from perception.detector.yolo import Detection, YoloDetector
 
 THRESHOLDS = (0.3, 0.4, 0.5, 0.6)
 

@@ -39,15 +39,15 @@ import py_trees
 import pybullet as p
 from py_trees.common import Access, Status
 
-from app.household import Simulation
-from app.scenario import Placement, Scenario, Start, load_scenario
-from app.speech import speech_seconds
-from app.world import Footprint, World
+from app.sim.scenario import Placement, Scenario, Start, load_scenario
+from app.sim.simulation import Simulation
+from app.sim.speech import speech_seconds
+from app.sim.world import Footprint, World
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_household
 from behaviours.harness import skill_root
 from behaviours.skills import find_people
-from perception.detector import Detector, YoloDetector
+from perception.detector.yolo import Detector, YoloDetector
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIO = ROOT / "worlds" / "living_room.yaml"

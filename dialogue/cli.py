@@ -12,11 +12,11 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
+from app.core.paths import WORLDS_DIR
 from dialogue.intent import HELDOUT_FILE, MODES
 from dialogue.qa.base import DialogueError
 
-REPO = Path(__file__).resolve().parents[1]
-DEFAULT_SCENARIO = REPO / "worlds" / "living_room.yaml"
+DEFAULT_SCENARIO = WORLDS_DIR / "living_room.yaml"
 ROUTING_BAR = 0.95
 HELP = """Type a question or just talk. Commands:
   /mode auto|qa|chitchat|<category>   route every line this way (the tablet buttons)
@@ -66,8 +66,8 @@ def robot_mood(drives: Mapping[str, float] | None = None,
     """
     import numpy as np
 
-    from app.homeostasis import Homeostasis
-    from app.personality import DRIVES, load_personality
+    from app.mind.homeostasis import Homeostasis
+    from app.mind.personality import DRIVES, load_personality
 
     h = Homeostasis(load_personality(personality))
     d = np.array([float((drives or {}).get(k, 0.0)) for k in DRIVES])
@@ -78,11 +78,11 @@ def robot_mood(drives: Mapping[str, float] | None = None,
 
 def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | None, Any]:
     """The manager for ``chat`` and the scenario's drives and personality (or Nones)."""
-    from app.camera import scenario_camera
-    from app.scenario import load_scenario
+    from app.sim.camera import scenario_camera
+    from app.sim.scenario import load_scenario
     from dialogue.manager import DialogueManager
     from dialogue.qa.bot import QABot, load_weather
-    from dialogue.qa.household import plan_from_scenario
+    from dialogue.qa.home_map import plan_from_scenario
     from dialogue.qa.news import SAMPLE_FEED
 
     drives, personality, household, scenario_weather = None, None, None, None
@@ -124,15 +124,15 @@ def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
 
 def shipped_chitchat() -> Any:
     """The shipped chit-chat model, or None while none has been trained."""
-    from dialogue.chat_config import DEFAULT_CHAT_MODEL
-    from dialogue.chat_model import ChitChatModel
+    from dialogue.chat.config import DEFAULT_CHAT_MODEL
+    from dialogue.chat.model import ChitChatModel
 
     return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
 
 
 def shipped_style() -> Any:
     """The shipped mood style-transfer model, or None while none has been trained."""
-    from dialogue.style import DEFAULT_STYLE_MODEL, StyleTransfer
+    from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
     return StyleTransfer.load(DEFAULT_STYLE_MODEL) if DEFAULT_STYLE_MODEL.is_file() else None
 
@@ -253,8 +253,8 @@ def run_eval(args: argparse.Namespace) -> int:
 
 def chat_model_metrics() -> dict[str, float]:
     """Held-out chit-chat figures of the shipped model (empty while none is shipped)."""
-    from dialogue.chat_cli import chat_metrics
-    from dialogue.chat_config import DEFAULT_CHAT_MODEL
+    from dialogue.chat.config import DEFAULT_CHAT_MODEL
+    from dialogue.chat.training.cli import chat_metrics
 
     if not DEFAULT_CHAT_MODEL.is_file():
         return {}

@@ -12,11 +12,13 @@ from pathlib import Path
 import pytest
 import torch
 
-from app.config import ConfigError
-from app.errors import UserError
-from dialogue.chat_cli import METRIC_KEYS, chat_metrics, run_train
-from dialogue.chat_config import ChatConfig, load_chat_config
-from dialogue.chat_data import (
+from app.core.config_files import ConfigError
+from app.core.errors import UserError
+from dialogue.chat.config import ChatConfig, load_chat_config
+from dialogue.chat.decode import banned_ngram_tokens
+from dialogue.chat.model import ChatModelError, ChitChatModel, Seq2Seq
+from dialogue.chat.training.cli import METRIC_KEYS, chat_metrics, run_train
+from dialogue.chat.training.data import (
     UNK,
     Vocab,
     batches,
@@ -26,10 +28,8 @@ from dialogue.chat_data import (
     read_chatterbot,
     tokenize,
 )
-from dialogue.chat_decode import banned_ngram_tokens
-from dialogue.chat_eval import distinct_n, perplexity, unigram_perplexity
-from dialogue.chat_model import ChatModelError, ChitChatModel, Seq2Seq
-from dialogue.chat_train import train
+from dialogue.chat.training.evaluate import distinct_n, perplexity, unigram_perplexity
+from dialogue.chat.training.train import train
 
 THINGS = ["music", "dogs", "cats", "pizza", "rain", "books", "football", "movies", "trains",
           "flowers", "robots", "coffee", "tea", "snow", "games", "dancing"]
@@ -273,9 +273,9 @@ def test_cli_trains_exports_and_measures(tmp_path):
 
 def test_shipped_chat_model_meets_its_bars() -> None:
     """The committed chit-chat model beats the unigram baseline 3x on held-out pairs."""
-    from dialogue.chat_cli import chat_metrics
-    from dialogue.chat_config import DEFAULT_CHAT_MODEL
-    from dialogue.chat_model import ChitChatModel
+    from dialogue.chat.config import DEFAULT_CHAT_MODEL
+    from dialogue.chat.model import ChitChatModel
+    from dialogue.chat.training.cli import chat_metrics
     from dialogue.manager import DialogueContext
 
     metrics = chat_metrics(DEFAULT_CHAT_MODEL)

@@ -3,9 +3,9 @@
 import pytest
 
 from app.cli import main
-from app.config import ConfigError
-from app.personality import load_personality
-from app.policy.config import load_policy_config
+from app.core.config_files import ConfigError
+from app.mind.personality import load_personality
+from app.mind.policy.config import load_policy_config
 
 
 def write(tmp_path, text):

@@ -8,7 +8,7 @@ import py_trees
 import pytest
 from py_trees.common import Access, Status
 
-from app.events import EventLog
+from app.core.events import EventLog
 from behaviours.config import load_behaviour_config
 from behaviours.context import Household, SimClock
 from behaviours.decide import Decide

@@ -10,11 +10,16 @@ import numpy as np
 import pytest
 
 from app.cli import main
-from app.people import Appearance
-from perception.detector import DEFAULT_DETECTOR, DEFAULT_TRAINED, DetectorFileError, YoloDetector
-from perception.detector_config import load_detector_config
-from perception.detector_data import DetectorScene, PersonSpec, SceneSpec
-from perception.detector_train import onnx_input_shape
+from app.sim.people import Appearance
+from perception.detector.config import load_detector_config
+from perception.detector.training.data import DetectorScene, PersonSpec, SceneSpec
+from perception.detector.training.train import onnx_input_shape
+from perception.detector.yolo import (
+    DEFAULT_DETECTOR,
+    DEFAULT_TRAINED,
+    DetectorFileError,
+    YoloDetector,
+)
 
 CFG = load_detector_config()
 

@@ -10,10 +10,10 @@ import pytest
 import yaml
 
 from app.cli import main
-from app.config import ConfigError
-from app.people import Appearance
-from perception.detector_config import load_detector_config
-from perception.detector_data import Box, DetectorScene, PersonSpec, SceneSpec, _extent
+from app.core.config_files import ConfigError
+from app.sim.people import Appearance
+from perception.detector.config import load_detector_config
+from perception.detector.training.data import Box, DetectorScene, PersonSpec, SceneSpec, _extent
 
 CFG = load_detector_config().data
 

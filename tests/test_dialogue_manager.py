@@ -17,7 +17,7 @@ from dialogue.intent import (
 from dialogue.manager import ChitChat, DialogueContext, DialogueManager, StyleTransfer
 from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot
-from dialogue.qa.household import Household
+from dialogue.qa.home_map import Household
 from dialogue.qa.text import normalise
 
 NOON_UTC = datetime(2025, 6, 1, 12, 0, tzinfo=UTC)

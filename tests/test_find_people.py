@@ -7,8 +7,8 @@ import py_trees
 import pytest
 from py_trees.common import Status
 
-from app.household import Simulation
-from app.scenario import Placement, Start, load_scenario
+from app.sim.scenario import Placement, Start, load_scenario
+from app.sim.simulation import Simulation
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_household
 from behaviours.harness import run_skill
@@ -16,7 +16,7 @@ from behaviours.sense import Sense
 from behaviours.skill import people_in_view
 from behaviours.skills import find_people
 from behaviours.skills.box_steering import has_face
-from perception.detector import Detection, YoloDetector
+from perception.detector.yolo import Detection, YoloDetector
 
 ROOT = Path(__file__).resolve().parents[1]
 WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.onnx",

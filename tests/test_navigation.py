@@ -10,17 +10,17 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
-from app.household import Simulation
-from app.navigation import (
+from app.mind.personality import ACTIONS
+from app.sim.navigation import (
     Navigator,
     OccupancyGrid,
     PathFollower,
     Planner,
     footprint_distance,
 )
-from app.personality import ACTIONS
-from app.scenario import load_scenario
-from app.world import Footprint, Pose2D, World
+from app.sim.scenario import load_scenario
+from app.sim.simulation import Simulation
+from app.sim.world import Footprint, Pose2D, World
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_household
 from behaviours.harness import run_skill

@@ -11,20 +11,20 @@ import numpy as np
 import pytest
 import torch
 
-from app.checkpoint import claim_run_folder
 from app.cli import main
-from app.config import ConfigError
-from app.errors import UserError
-from app.homeostasis import Homeostasis
-from app.personality import ACTIONS, STAND_BY, load_personality
-from app.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
-from app.policy.baselines import HomeostaticRule, RandomPolicy
-from app.policy.config import load_policy_config
-from app.policy.demo import collect_demonstrations, margin_loss
-from app.policy.env import Decisions, VecHomeostasisEnv
-from app.policy.evaluate import run_episodes, summarise
-from app.policy.network import DuelingQNetwork
-from app.policy.train import action_discounts, selection_score, train, training_reward
+from app.core.checkpoint import claim_run_folder
+from app.core.config_files import ConfigError
+from app.core.errors import UserError
+from app.mind.homeostasis import Homeostasis
+from app.mind.personality import ACTIONS, STAND_BY, load_personality
+from app.mind.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
+from app.mind.policy.baselines import HomeostaticRule, RandomPolicy
+from app.mind.policy.config import load_policy_config
+from app.mind.policy.demo import collect_demonstrations, margin_loss
+from app.mind.policy.env import Decisions, VecHomeostasisEnv
+from app.mind.policy.evaluate import run_episodes, summarise
+from app.mind.policy.network import DuelingQNetwork
+from app.mind.policy.train import action_discounts, selection_score, train, training_reward
 
 DISCOUNTS = np.full(len(ACTIONS), 0.99, dtype=np.float32)  # per decision, every action
 
@@ -162,7 +162,8 @@ def test_a_folder_another_live_training_holds_is_refused(tmp_path):
 
 
 def test_the_lock_goes_when_the_training_process_exits(tmp_path):
-    code = ("import sys; from pathlib import Path; from app.checkpoint import claim_run_folder; "
+    code = ("import sys; from pathlib import Path; "
+            "from app.core.checkpoint import claim_run_folder; "
             "d = Path(sys.argv[1]); claim_run_folder(d, d / 'checkpoint.pt', resume=False); "
             "print((d / '.lock').read_text())")
     done = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True,

@@ -6,11 +6,11 @@ from pathlib import Path
 import cv2
 import pytest
 
-from app.scenario import load_scenario
+from app.sim.scenario import load_scenario
 from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot, load_weather
 from dialogue.qa.clock import answer_time, scenario_clock
-from dialogue.qa.household import Household, answer_map, plan_from_scenario, render_plan
+from dialogue.qa.home_map import Household, answer_map, plan_from_scenario, render_plan
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
 from dialogue.qa.music import SONGS, answer_music
 from dialogue.qa.news import answer_news

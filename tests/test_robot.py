@@ -6,7 +6,7 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.robot import (
+from app.sim.robot import (
     JOINT_NAMES,
     URDF_PATH,
     MotorHeat,

@@ -10,12 +10,12 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
-from app.config import ConfigError
-from app.events import EventLog
-from app.household import Simulation
-from app.robot import Robot
-from app.scenario import load_scenario
-from app.speech import Speaker
+from app.core.config_files import ConfigError
+from app.core.events import EventLog
+from app.sim.robot import Robot
+from app.sim.scenario import load_scenario
+from app.sim.simulation import Simulation
+from app.sim.speech import Speaker
 from behaviours.context import Household, make_household
 from behaviours.harness import run_skill
 from behaviours.skills import rest, sing_dance, stand_by
@@ -204,7 +204,7 @@ def test_speaker_writes_wav_files(tmp_path):
 
 
 def test_speaker_without_espeak_only_logs(tmp_path, monkeypatch):
-    monkeypatch.setattr("app.speech.shutil.which", lambda name: None)
+    monkeypatch.setattr("app.sim.speech.shutil.which", lambda name: None)
     events = EventLog(None, lambda: 0.0)
     Speaker(events, audio_dir=tmp_path / "speech").say("Hello there")
     assert "audio" not in events.of_kind("say")[0]

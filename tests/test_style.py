@@ -4,9 +4,10 @@ import pytest
 import torch
 from style_helpers import one_thread, tiny_config, write_corpus
 
-from app.config import ConfigError
-from dialogue.style_config import load_style_config
-from dialogue.style_data import (
+from app.core.config_files import ConfigError
+from dialogue.style.config import load_style_config
+from dialogue.style.model import FAKE, Generator, StyleCode, StyleTransferModel, TextCNN
+from dialogue.style.training.data import (
     BOS_ID,
     EOS_ID,
     PAD_ID,
@@ -19,8 +20,7 @@ from dialogue.style_data import (
     make_batch,
     tokenize,
 )
-from dialogue.style_losses import discriminator_loss, pretrain_losses, transfer_losses
-from dialogue.style_model import FAKE, Generator, StyleCode, StyleTransferModel, TextCNN
+from dialogue.style.training.losses import discriminator_loss, pretrain_losses, transfer_losses
 
 
 @pytest.fixture(scope="module", autouse=True)

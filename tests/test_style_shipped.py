@@ -2,11 +2,11 @@
 
 import pytest
 
-from dialogue.style import DEFAULT_STYLE_MODEL, StyleTransfer
-from dialogue.style_data import tokenize
-from dialogue.style_eval import evaluate
-from dialogue.style_io import CLASSIFIER_FILE, load_classifier
-from dialogue.style_metrics import classify
+from dialogue.style.files import CLASSIFIER_FILE, load_classifier
+from dialogue.style.training.data import tokenize
+from dialogue.style.training.evaluate import evaluate
+from dialogue.style.training.metrics import classify
+from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
 # the first 200 test sentences of each class; the whole test split measures 85.5 % (bar 85 %)
 ACCURACY_BAR = 0.8

@@ -11,13 +11,14 @@ import torch
 from style_helpers import one_thread, tiny_config, write_corpus
 from torch import nn
 
-from app.errors import UserError
-from dialogue import style_cli
-from dialogue.style import StyleTransfer, readable, replace_unknown
-from dialogue.style_config import load_style_config
-from dialogue.style_data import SPECIALS, Vocab
-from dialogue.style_io import StyleModelError
-from dialogue.style_loop import Run
+from app.core.errors import UserError
+from dialogue.style.config import load_style_config
+from dialogue.style.files import StyleModelError
+from dialogue.style.training import cli as style_cli
+from dialogue.style.training import train as style_train
+from dialogue.style.training.data import SPECIALS, Vocab
+from dialogue.style.transfer import StyleTransfer, readable, replace_unknown
+from textnets.loop import Run
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -87,8 +88,6 @@ def test_an_ablation_reuses_the_judges_of_an_earlier_run(trained, tmp_path):
 
 
 def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monkeypatch):
-    from dialogue import style_train
-
     cfg = load_style_config(tiny_config(tmp_path, data_dir, adv=12))
     cfg = cfg.model_copy(update={"model": cfg.model.model_copy(
         update={"style_autoencoder": False})})  # the ablation trains too

@@ -12,7 +12,7 @@ import py_trees
 import pytest
 
 from app.run import build_run
-from app.scenario import load_scenario
+from app.sim.scenario import load_scenario
 from behaviours.tree import render
 
 SNAPSHOTS = Path(__file__).parent / "snapshots"

@@ -8,17 +8,17 @@ import json
 import numpy as np
 import pytest
 
-from app.config import ConfigError
-from perception.vqg_data import (
+from app.core.config_files import ConfigError
+from perception.vqg.questions import frame_key, is_grounded, is_on_topic, parse_question, tokenize
+from perception.vqg.scene import Node, SceneGraph
+from perception.vqg.training.data import (
     load_vqg_data_config,
     make_renderer,
     questions_for,
     write_vqg_dataset,
 )
-from perception.vqg_facts import Style, wordings
-from perception.vqg_layout import sample_plan
-from perception.vqg_questions import frame_key, is_grounded, is_on_topic, parse_question, tokenize
-from perception.vqg_scene import Node, SceneGraph
+from perception.vqg.training.facts import Style, wordings
+from perception.vqg.training.layout import sample_plan
 
 CFG = load_vqg_data_config()
 

@@ -15,17 +15,18 @@ import numpy as np
 import pytest
 import torch
 
-from app.errors import UserError
-from dialogue.style_data import PAD_ID, make_batch
-from perception import vqg_cli, vqg_train
-from perception.vqg import VqgModelError, VqgQuestionGenerator
-from perception.vqg_config import load_vqg_config
-from perception.vqg_facts import facts
-from perception.vqg_model import Latent, MatchDiscriminator, VqgModel
-from perception.vqg_questions import frame_key, parse_question
-from perception.vqg_scene import PALETTE, Node, SceneGraph, load_scene
-from perception.vqg_verify import FactVerifier
-from perception.vqg_vocab import read_image
+from app.core.errors import UserError
+from dialogue.style.training.data import PAD_ID, make_batch
+from perception.vqg.config import load_vqg_config
+from perception.vqg.generator import VqgModelError, VqgQuestionGenerator
+from perception.vqg.model import Latent, MatchDiscriminator, VqgModel
+from perception.vqg.questions import frame_key, parse_question
+from perception.vqg.scene import PALETTE, Node, SceneGraph, load_scene
+from perception.vqg.training import cli as vqg_cli
+from perception.vqg.training import train as vqg_train
+from perception.vqg.training.dataset import read_image
+from perception.vqg.training.facts import facts
+from perception.vqg.verify import FactVerifier
 
 KINDS = ["mug", "ball", "book", "duck"]
 COLOURS = ["red", "green", "blue", "yellow"]
@@ -307,8 +308,8 @@ def test_prediction_ignores_padding_after_eos(trained):
 
 
 def test_shipped_model_asks_grounded_questions_about_a_rendered_scene():
-    from perception.vqg_data import render_scene
-    from perception.vqg_questions import is_grounded, parse_question
+    from perception.vqg.questions import is_grounded, parse_question
+    from perception.vqg.training.data import render_scene
 
     # frame 1000 of the test split's seed stream: beyond the 300 frames of the data set
     rgb, graph = render_scene(np.random.SeedSequence([0, 2, 1000]))

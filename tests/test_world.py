@@ -8,9 +8,9 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.people import Appearance, create_person
-from app.scenario import load_scenario
-from app.world import EmotionEvent, EncourageEvent, SayEvent, World
+from app.sim.people import Appearance, create_person
+from app.sim.scenario import load_scenario
+from app.sim.world import EmotionEvent, EncourageEvent, SayEvent, World
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 NAMES = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
@@ -201,8 +201,8 @@ def test_person_api(client):
 
 
 def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
-    from app.household import Simulation
-    from app.scenario import Event, Start, WalkTo
+    from app.sim.scenario import Event, Start, WalkTo
+    from app.sim.simulation import Simulation
 
     base = load_scenario(WORLDS / "living_room.yaml")
     tom = next(q for q in base.people if q.name == "Tom")

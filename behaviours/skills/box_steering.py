@@ -15,7 +15,7 @@ from behaviours.config import FindPeopleConfig, PidGains
 from behaviours.context import Household
 from behaviours.person_range import PersonRange
 from behaviours.skill import HouseholdBehaviour
-from perception.detector import Detection
+from perception.detector.yolo import Detection
 
 HOLD_PERIODS = 1.5  # by default, without a fresh frame for this many camera periods the base stops
 

@@ -10,9 +10,9 @@ import math
 import py_trees
 from py_trees.common import Status
 
-from app.navigation import Navigator, Point
-from app.robot import wrap_angle
-from app.world import Pose2D
+from app.sim.navigation import Navigator, Point
+from app.sim.robot import wrap_angle
+from app.sim.world import Pose2D
 from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour, Relieve, Say
 

@@ -10,9 +10,9 @@ from typing import Self
 
 from pydantic import Field, NonNegativeFloat, PositiveFloat, create_model, model_validator
 
-from app.config import ConfigError, StrictModel, read_yaml, validate
-from app.robot import JOINT_NAMES
-from app.speech import speech_seconds
+from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
+from app.sim.robot import JOINT_NAMES
+from app.sim.speech import speech_seconds
 
 # One optional angle (rad) per joint: a misspelt joint is reported as an unknown key.
 JointTargets = create_model(

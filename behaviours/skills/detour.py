@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import math
 
-from app.navigation import Navigator, Point, Velocity
-from app.robot import wrap_angle
-from app.world import Pose2D
+from app.sim.navigation import Navigator, Point, Velocity
+from app.sim.robot import wrap_angle
+from app.sim.world import Pose2D
 from behaviours.context import Household
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well

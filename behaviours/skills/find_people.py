@@ -27,7 +27,7 @@ from behaviours.context import Household
 from behaviours.skill import Relieve, Say
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
 from behaviours.skills.detour import Detour
-from perception.detector import Detection
+from perception.detector.yolo import Detection
 
 
 class ApproachPerson(BoxSteering):

@@ -7,7 +7,7 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Status
 
-from app.robot import Robot
+from app.sim.robot import Robot
 from behaviours.context import Household
 from behaviours.skill import HouseholdBehaviour
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.errors import UserError
+from app.core.errors import UserError
 
 
 @dataclass(frozen=True)

@@ -7,11 +7,11 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from app.config import read_yaml
+from app.core.config_files import read_yaml
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.clock import Clock, answer_time, utc_now
-from dialogue.qa.household import Household, answer_map
+from dialogue.qa.home_map import Household, answer_map
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
 from dialogue.qa.music import answer_music
 from dialogue.qa.news import SAMPLE_FEED, answer_news

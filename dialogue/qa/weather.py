@@ -25,8 +25,8 @@ from urllib.parse import quote
 
 from pydantic import ValidationError
 
-from app.config import format_loc
-from app.scenario import Weather, WeatherDay
+from app.core.config_files import format_loc
+from app.sim.scenario import Weather, WeatherDay
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.places import find_place, lookup
 from dialogue.qa.text import normalise

@@ -1,0 +1,364 @@
+"""Navigation in a household: an occupancy grid of the floor, A* paths on it and a PID path
+follower for the omnidirectional base (docs/navigation.md).
+
+- :class:`OccupancyGrid`: square cells over the rooms; a cell is blocked when its centre lies
+  within the robot's radius of an obstacle footprint or of the outside of the house.
+- :class:`Planner`: A* (networkx) on the 8-connected graph of a static grid's free cells,
+  start and goal snapped to the nearest free cell, the path shortened by line of sight.
+- :class:`PathFollower`: two simple-pid controllers, heading error -> turn rate and
+  remaining distance -> forward speed, the speed cut while the heading error is large.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Sequence
+from functools import cached_property, lru_cache
+from itertools import repeat
+from typing import Protocol
+
+import networkx as nx
+import numpy as np
+from scipy import ndimage
+from simple_pid import PID
+
+from app.sim.robot import wrap_angle
+from app.sim.world import Footprint, Pose2D, World
+
+Point = tuple[float, float]
+Cell = tuple[int, int]
+Bounds = tuple[float, float, float, float]        # x_min, y_min, x_max, y_max
+Velocity = tuple[float, float, float]             # vx, vy (robot frame, m/s), wz (rad/s)
+NEIGHBOURS = ((1, 0), (0, 1), (1, 1), (1, -1))    # each undirected 8-neighbour edge once
+
+
+class Gains(Protocol):
+    """Gains of one PID controller."""
+
+    kp: float
+    ki: float
+    kd: float
+
+
+class FollowerConfig(Protocol):
+    """The path follower's parameters (behaviour.yaml's ``pid`` section)."""
+
+    heading: Gains
+    distance: Gains
+    slowdown_heading_deg: float
+    lookahead_m: float
+
+
+def footprint_distance(f: Footprint, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """Distance (m) from each point to the rectangle ``f`` (0 inside it)."""
+    c, s = math.cos(f.yaw), math.sin(f.yaw)
+    dx, dy = xs - f.x, ys - f.y
+    u = np.abs(c * dx + s * dy) - f.half_x
+    v = np.abs(-s * dx + c * dy) - f.half_y
+    return np.hypot(np.maximum(u, 0.0), np.maximum(v, 0.0))
+
+
+class OccupancyGrid:
+    """Cells of ``resolution`` m; ``blocked[i, j]`` for the cell whose centre is
+    ``origin + (i + 0.5, j + 0.5) * resolution`` (i along x, j along y)."""
+
+    def __init__(self, blocked: np.ndarray, origin: Point, resolution: float,
+                 radius: float) -> None:
+        self.blocked = blocked
+        self.origin = origin
+        self.resolution = resolution
+        self.radius = radius
+
+    @classmethod
+    def build(cls, rooms: Iterable[Bounds], obstacles: Iterable[Footprint], resolution: float,
+              radius: float) -> OccupancyGrid:
+        """The grid over the rooms' bounding box: cells outside every room, or within
+        ``radius`` of an obstacle or of the outside, are blocked."""
+        rooms = list(rooms)
+        x0, y0 = min(r[0] for r in rooms) - resolution, min(r[1] for r in rooms) - resolution
+        x1, y1 = max(r[2] for r in rooms) + resolution, max(r[3] for r in rooms) + resolution
+        shape = (math.ceil((x1 - x0) / resolution), math.ceil((y1 - y0) / resolution))
+        grid = cls(np.zeros(shape, dtype=bool), (x0, y0), resolution, radius)
+        xs, ys = grid.centres()
+        inside = np.zeros(shape, dtype=bool)
+        for rx0, ry0, rx1, ry1 in rooms:
+            inside |= (xs >= rx0) & (xs <= rx1) & (ys >= ry0) & (ys <= ry1)
+        grid.blocked = ndimage.distance_transform_edt(inside) * resolution <= radius
+        return grid.with_obstacles(obstacles)
+
+    def with_obstacles(self, obstacles: Iterable[Footprint]) -> OccupancyGrid:
+        """A copy with the cells within ``radius`` of ``obstacles`` blocked too."""
+        xs, ys = self.centres()
+        blocked = self.blocked.copy()
+        for f in obstacles:
+            blocked |= footprint_distance(f, xs, ys) <= self.radius
+        return OccupancyGrid(blocked, self.origin, self.resolution, self.radius)
+
+    def centres(self) -> tuple[np.ndarray, np.ndarray]:
+        """x and y of every cell centre, each shaped like ``blocked``."""
+        n, m = self.blocked.shape
+        i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
+        res = self.resolution
+        return self.origin[0] + (i + 0.5) * res, self.origin[1] + (j + 0.5) * res
+
+    def cell(self, x: float, y: float) -> Cell:
+        """The cell holding (x, y), clamped into the grid."""
+        n, m = self.blocked.shape
+        i = int(np.clip((x - self.origin[0]) // self.resolution, 0, n - 1))
+        j = int(np.clip((y - self.origin[1]) // self.resolution, 0, m - 1))
+        return i, j
+
+    def centre(self, cell: Cell) -> Point:
+        """World coordinates of a cell's centre."""
+        return (self.origin[0] + (cell[0] + 0.5) * self.resolution,
+                self.origin[1] + (cell[1] + 0.5) * self.resolution)
+
+    def is_free(self, x: float, y: float) -> bool:
+        """Whether the cell holding (x, y) is free."""
+        return not self.blocked[self.cell(x, y)]
+
+    def nearest(self, cell: Cell, allowed: np.ndarray | None = None) -> Cell:
+        """The nearest free cell (among ``allowed`` cells if given) to ``cell``."""
+        ok = ~self.blocked if allowed is None else allowed & ~self.blocked
+        if ok[cell]:
+            return cell
+        _, (ii, jj) = ndimage.distance_transform_edt(~ok, return_indices=True)
+        return int(ii[cell]), int(jj[cell])
+
+    def visible(self, a: Point, b: Point) -> bool:
+        """Whether every cell that the straight segment a-b passes through is free: the
+        segment is cut where it crosses grid lines and each piece's midpoint is looked up."""
+        pa = (np.asarray(a) - self.origin) / self.resolution     # in cells
+        pb = (np.asarray(b) - self.origin) / self.resolution
+        cuts = [np.array([0.0, 1.0])]
+        for k in (0, 1):
+            if pa[k] != pb[k]:
+                lines = np.arange(math.ceil(min(pa[k], pb[k])), math.floor(max(pa[k], pb[k])) + 1)
+                cuts.append((lines - pa[k]) / (pb[k] - pa[k]))
+        t = np.unique(np.concatenate(cuts))
+        mids = pa + ((t[:-1] + t[1:]) / 2)[:, None] * (pb - pa)
+        cells = np.clip(np.floor(mids).astype(int), 0, np.array(self.blocked.shape) - 1)
+        return not self.blocked[cells[:, 0], cells[:, 1]].any()
+
+    def clear_ahead(self, a: Point, b: Point) -> bool:
+        """Whether the segment a-b is free beyond ``radius`` of ``a`` (a robot standing close
+        to furniture starts inside its inflated footprint) and free from its first free
+        point on."""
+        steps = max(1, math.ceil(math.dist(a, b) / self.resolution))
+        points = [(a[0] + (b[0] - a[0]) * k / steps, a[1] + (b[1] - a[1]) * k / steps)
+                  for k in range(steps + 1)]
+        first = next((k for k, q in enumerate(points)
+                      if self.is_free(*q) or math.dist(a, q) > self.radius), len(points))
+        return all(self.is_free(*q) for q in points[first:])
+
+
+def grid_graph(free: np.ndarray, resolution: float) -> nx.Graph:
+    """8-connected graph of the free cells; edges weigh their length in metres, and a
+    diagonal step needs both cells beside it free (no cutting a blocked corner)."""
+    graph = nx.Graph()
+    i, j = np.nonzero(free)
+    graph.add_nodes_from(zip(i.tolist(), j.tolist(), strict=True))
+    n, m = free.shape
+    for di, dj in NEIGHBOURS:
+        i2, j2 = i + di, j + dj
+        ok = (i2 < n) & (j2 >= 0) & (j2 < m)
+        i1, j1, i2, j2 = i[ok], j[ok], i2[ok], j2[ok]
+        ok = free[i2, j2] & free[i2, j1] & free[i1, j2]
+        graph.add_weighted_edges_from(zip(
+            zip(i1[ok].tolist(), j1[ok].tolist(), strict=True),
+            zip(i2[ok].tolist(), j2[ok].tolist(), strict=True),
+            repeat(resolution * math.hypot(di, dj))))
+    return graph
+
+
+def shortcut(grid: OccupancyGrid, points: Sequence[Point]) -> list[Point]:
+    """Drop every point that the one before it can see past: from each kept point, jump to
+    the last point of the run that stays in line of sight."""
+    out, i = [points[0]], 0
+    while i < len(points) - 1:
+        j = i + 1
+        while j + 1 < len(points) and grid.visible(points[i], points[j + 1]):
+            j += 1
+        out.append(points[j])
+        i = j
+    return out
+
+
+class Planner:
+    """Shortest paths on a static grid; ``plan`` may block more cells (people) on top."""
+
+    def __init__(self, grid: OccupancyGrid) -> None:
+        self.grid = grid
+
+    @cached_property
+    def graph(self) -> nx.Graph:
+        """The free cells of the static grid as a graph (built on first use)."""
+        return grid_graph(~self.grid.blocked, self.grid.resolution)
+
+    def plan(self, start: Point, goal: Point, grid: OccupancyGrid | None = None,
+             ) -> list[Point] | None:
+        """Waypoints from ``start`` to ``goal`` avoiding the blocked cells of ``grid`` (the
+        static grid, or one made from it with :meth:`OccupancyGrid.with_obstacles`), or
+        None when there is no way. The goal is snapped to the nearest free cell, the start
+        to the nearest free cell that connects to it; the first waypoint is ``start`` itself
+        unless it had to be snapped, the last is ``goal`` unless it had to be snapped."""
+        grid = grid or self.grid
+        goal_cell = grid.nearest(grid.cell(*goal))
+        reachable = np.zeros_like(grid.blocked)
+        extra = np.argwhere(grid.blocked & ~self.grid.blocked)
+        free_graph = nx.restricted_view(self.graph, [tuple(c) for c in extra.tolist()], [])
+        for cell in nx.node_connected_component(free_graph, goal_cell):
+            reachable[cell] = True
+        start_cell = grid.nearest(grid.cell(*start), reachable)
+        if not reachable[start_cell]:
+            return None
+        res = grid.resolution
+        cells = nx.astar_path(free_graph, start_cell, goal_cell,
+                              heuristic=lambda a, b: res * math.dist(a, b), weight="weight")
+        points = [grid.centre(c) for c in cells]
+        if grid.cell(*start) == start_cell:
+            points[0] = start
+        if grid.cell(*goal) == goal_cell:
+            points[-1] = goal
+        return shortcut(grid, points)
+
+    def nearest_goal(self, start: Point, goals: Sequence[Point],
+                     extra: Sequence[float] | None = None) -> Point | None:
+        """Of ``goals`` in free cells of the static grid, the one with the least path length
+        from ``start`` (snapped to its nearest free cell) plus its ``extra`` cost (m), or
+        None when none is reachable."""
+        grid = self.grid
+        lengths = nx.single_source_dijkstra_path_length(
+            self.graph, grid.nearest(grid.cell(*start)), weight="weight")
+        extra = extra or [0.0] * len(goals)
+        reachable = [(lengths[c] + e, g) for g, e in zip(goals, extra, strict=True)
+                     if (c := grid.cell(*g)) in lengths]
+        return min(reachable)[1] if reachable else None
+
+
+@lru_cache(maxsize=8)
+def _static_planner(rooms: tuple[Bounds, ...], obstacles: tuple[Footprint, ...],
+                    resolution: float, radius: float) -> Planner:
+    return Planner(OccupancyGrid.build(rooms, obstacles, resolution, radius))
+
+
+class Navigator:
+    """Plans in one world: the static grid and its graph are shared by every navigator of
+    the same household layout; people present at planning time are avoided too."""
+
+    def __init__(self, world: World, resolution: float, radius: float) -> None:
+        self.world = world
+        self.planner = _static_planner(tuple(world.room_bounds().values()),
+                                       tuple(world.obstacles()), resolution, radius)
+
+    def grid(self) -> OccupancyGrid:
+        """The static grid with the people who are in the house now."""
+        return self.planner.grid.with_obstacles(
+            o for o in self.world.obstacles(include_people=True) if o.kind == "person")
+
+    def plan(self, start: Point, goal: Point) -> list[Point] | None:
+        """Waypoints from ``start`` to ``goal`` around obstacles and people, or None."""
+        return self.planner.plan(start, goal, self.grid())
+
+
+class PathFollower:
+    """Velocity commands that drive the base along waypoints, or onto a final pose.
+
+    The heading controller turns towards a carrot ``lookahead_m`` ahead of the robot's
+    projection on the current leg (so the robot comes back onto the leg after a deviation);
+    its measurement is the unwrapped yaw so that its derivative never jumps at +-pi. The
+    distance controller sets the forward speed from the distance left along the path, and
+    the speed is scaled by ``1 - |heading error| / slowdown_heading_deg`` (zero beyond:
+    turn on the spot). A waypoint within ``tolerance`` counts as passed.
+    """
+
+    def __init__(self, gains: FollowerConfig, max_speed: float, max_turn: float,
+                 tolerance: float, clock: Callable[[], float]) -> None:
+        h, d = gains.heading, gains.distance
+        self.turn_pid = PID(h.kp, h.ki, h.kd, sample_time=None, time_fn=clock,
+                            output_limits=(-max_turn, max_turn))
+        self.speed_pid = PID(d.kp, d.ki, d.kd, setpoint=0.0, sample_time=None, time_fn=clock,
+                             output_limits=(0.0, max_speed))
+        self.slowdown = math.radians(gains.slowdown_heading_deg)
+        self.lookahead = gains.lookahead_m
+        self.tolerance = tolerance
+        self.path: list[Point] = []
+        self.index = 0
+        self._yaw: float | None = None      # last measured yaw
+        self._unwrapped = 0.0
+
+    def start(self, path: Sequence[Point]) -> None:
+        """Follow ``path`` (its first point is where the robot starts) from the beginning."""
+        self.path = list(path)
+        self.index = min(1, len(self.path) - 1)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the controllers' history (a new path or a new kind of motion)."""
+        self.turn_pid.reset()
+        self.speed_pid.reset()
+        self._yaw = None
+
+    @property
+    def goal(self) -> Point:
+        """The last waypoint."""
+        return self.path[-1]
+
+    def remaining(self, x: float, y: float) -> float:
+        """Distance (m) from (x, y) through the waypoints still ahead to the goal."""
+        rest = self.path[self.index:]
+        return math.dist((x, y), rest[0]) + sum(map(math.dist, rest, rest[1:]))
+
+    def arrived(self, x: float, y: float) -> bool:
+        """Whether (x, y) is within the tolerance of the goal."""
+        return math.dist((x, y), self.goal) <= self.tolerance
+
+    def carrot(self, x: float, y: float) -> Point:
+        """The point ``lookahead`` ahead of (x, y)'s projection on the current leg, at most
+        the leg's end (the current waypoint)."""
+        (ax, ay), (bx, by) = self.path[max(self.index - 1, 0)], self.path[self.index]
+        length = math.hypot(bx - ax, by - ay)
+        if length < 1e-9:
+            return bx, by
+        along = ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / length + self.lookahead
+        f = min(max(along / length, 0.0), 1.0)
+        return ax + f * (bx - ax), ay + f * (by - ay)
+
+    def _steer(self, yaw: float, heading: float) -> tuple[float, float]:
+        """Turn rate towards ``heading`` and the heading error (rad)."""
+        turned = 0.0 if self._yaw is None else wrap_angle(yaw - self._yaw)
+        self._unwrapped = yaw if self._yaw is None else self._unwrapped + turned
+        self._yaw = yaw
+        error = wrap_angle(heading - yaw)
+        self.turn_pid.setpoint = self._unwrapped + error
+        return self.turn_pid(self._unwrapped), error
+
+    def _speed(self, distance: float, heading_error: float) -> float:
+        """Forward speed for ``distance`` left, cut while the heading is off."""
+        speed = self.speed_pid(-distance)       # error = setpoint 0 - (-distance) = distance
+        return speed * max(0.0, 1.0 - abs(heading_error) / self.slowdown)
+
+    def command(self, pose: tuple[float, float, float]) -> Velocity:
+        """(vx, 0, wz) along the path; zero once the goal is reached."""
+        x, y, yaw = pose
+        if self.arrived(x, y):
+            return 0.0, 0.0, 0.0
+        while self.index < len(self.path) - 1 and math.dist((x, y), self.path[self.index]) \
+                <= self.tolerance:
+            self.index += 1
+        tx, ty = self.carrot(x, y)
+        wz, error = self._steer(yaw, math.atan2(ty - y, tx - x))
+        return self._speed(self.remaining(x, y), error), 0.0, wz
+
+    def approach(self, pose: tuple[float, float, float], target: Pose2D) -> Velocity:
+        """Holonomic final approach: turn towards ``target.yaw`` while sliding straight onto
+        the target position (slower while the heading is off, as in :meth:`command`)."""
+        x, y, yaw = pose
+        wz, error = self._steer(yaw, target.yaw)
+        dx, dy = target.x - x, target.y - y
+        distance = math.hypot(dx, dy)
+        speed = self._speed(distance, error)
+        if distance < 1e-9:
+            return 0.0, 0.0, wz
+        c, s = math.cos(yaw), math.sin(yaw)
+        return speed * (c * dx + s * dy) / distance, speed * (-s * dx + c * dy) / distance, wz

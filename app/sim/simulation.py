@@ -1,0 +1,68 @@
+"""A scenario's household as a steppable simulation: PyBullet world, people timeline and the
+robot, advanced one scenario step at a time. The behaviour tree and the skill benchmarks
+both run on it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pybullet as p
+
+from app.sim.robot import Robot, load_robot_config
+from app.sim.scenario import Scenario, load_scenario
+from app.sim.world import SocialEvent, World
+
+PHYSICS_SUBSTEP_S = 0.05  # joint motors track their ramps to 1e-3 rad at this physics step
+
+
+class Simulation:
+    """Build ``scenario`` in a DIRECT (or GUI) PyBullet client and step it.
+
+    ``step()`` advances the robot's base, joints, battery and motor heat, the physics and the
+    people's timeline by one scenario step and returns the social events that fell due.
+    """
+
+    def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None
+                 ) -> None:
+        self.scenario = scenario
+        self.dt = scenario.step
+        self.t = 0.0
+        self.steps = 0
+        self.client = p.connect(p.GUI if gui else p.DIRECT)
+        substeps = max(1, round(self.dt / PHYSICS_SUBSTEP_S))
+        p.setPhysicsEngineParameter(fixedTimeStep=self.dt, numSubSteps=substeps,
+                                    physicsClientId=self.client)
+        self.world = World(scenario, self.client)
+        start = self.world.robot_start()
+        self.robot = Robot(self.client, (start.x, start.y, start.yaw),
+                           load_robot_config(robot_config))
+        self.world.pass_through(self.robot.body_id)
+        self.robot.set_lighting(self.world.light.camera_kwargs())
+        self.robot.set_battery(scenario.robot.battery)
+
+    @classmethod
+    def from_file(cls, path: str | Path, gui: bool = False) -> Simulation:
+        """Load and validate the scenario at ``path`` and build it."""
+        return cls(load_scenario(path), gui=gui)
+
+    def step(self) -> list[SocialEvent]:
+        """Advance everything by one scenario step; the social events due in it."""
+        t_next = (self.steps + 1) * self.dt
+        events = self.world.advance(self.t, t_next)
+        self.robot.step(self.dt)
+        p.stepSimulation(physicsClientId=self.client)
+        self.steps += 1
+        self.t = t_next
+        return events
+
+    def close(self) -> None:
+        """Disconnect the PyBullet client."""
+        if self.client is not None and p.isConnected(self.client):
+            p.disconnect(self.client)
+        self.client = None
+
+    def __enter__(self) -> Simulation:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

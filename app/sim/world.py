@@ -1,0 +1,563 @@
+"""The household world of a scenario, built into a PyBullet client (DIRECT mode is enough).
+
+:class:`World` builds the floor, the walls of each room (with door gaps), furniture and
+objects from primitives or ``pybullet_data`` models, the charging dock and the people, and
+keeps the lighting as data for the TinyRenderer. It does not spawn the robot: it only
+exposes :meth:`World.robot_start` and :meth:`World.dock_pose`.
+
+:meth:`World.advance` plays the scenario timeline: it applies the physical events (enter,
+leave, walk_to, pose) and returns the social ones (say, encourage, emotion) to the caller.
+Poses returned by the world have their yaw in radians (the YAML uses degrees).
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NamedTuple
+
+import pybullet as p
+import pybullet_data
+
+from app.sim.people import Appearance, Part, Person, build_body, joint_xml, link_xml, load_urdf_text
+from app.sim.scenario import Event, Furniture, Placement, Scenario, SceneObject, load_scenario, rgb
+
+Rgb = tuple[float, float, float]
+WALL_THICKNESS = 0.1
+DOOR_HEIGHT = 2.05
+GROUND = (0.45, 0.47, 0.45, 1.0)  # outside the rooms
+CEILING: Rgb = (0.96, 0.96, 0.94)
+STOP_SHORT = 0.7  # a person walking up to another stops this far from them
+
+
+# --- small value types ----------------------------------------------------------------
+
+
+class Pose2D(NamedTuple):
+    """A position on the floor and a heading in radians (0 = facing +x); unpacks as a tuple."""
+
+    x: float
+    y: float
+    yaw: float
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """An obstacle's rectangle on the floor: centre, heading (rad) and half extents."""
+
+    name: str
+    kind: str  # wall, furniture, object, dock or person
+    x: float
+    y: float
+    yaw: float
+    half_x: float
+    half_y: float
+
+    def corners(self) -> list[tuple[float, float]]:
+        """The four corners, counter-clockwise."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return [(self.x + c * dx - s * dy, self.y + s * dx + c * dy)
+                for dx, dy in ((self.half_x, self.half_y), (-self.half_x, self.half_y),
+                               (-self.half_x, -self.half_y), (self.half_x, -self.half_y))]
+
+    def contains(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """Whether ``(x, y)`` is inside the rectangle grown by ``margin``."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        dx, dy = x - self.x, y - self.y
+        return (abs(c * dx + s * dy) <= self.half_x + margin
+                and abs(-s * dx + c * dy) <= self.half_y + margin)
+
+
+@dataclass(frozen=True)
+class Light:
+    """TinyRenderer lighting; pass ``**light.camera_kwargs()`` to ``getCameraImage``."""
+
+    direction: tuple[float, float, float]
+    colour: Rgb
+    ambient: float
+    diffuse: float
+    specular: float
+    shadows: bool
+
+    def camera_kwargs(self) -> dict[str, object]:
+        """Keyword arguments for ``pybullet.getCameraImage``."""
+        return {"lightDirection": list(self.direction), "lightColor": list(self.colour),
+                "lightAmbientCoeff": self.ambient, "lightDiffuseCoeff": self.diffuse,
+                "lightSpecularCoeff": self.specular, "shadow": int(self.shadows)}
+
+
+@dataclass(frozen=True)
+class SayEvent:
+    """A person says ``text`` to ``to``: ``robot``, ``everyone`` or another person's name."""
+
+    t: float
+    person: str
+    text: str
+    to: str = "robot"
+
+
+@dataclass(frozen=True)
+class EncourageEvent:
+    """A person encourages the robot (the thesis' encouragement stimulus) with ``text``."""
+
+    t: float
+    person: str
+    text: str
+
+
+@dataclass(frozen=True)
+class EmotionEvent:
+    """A person shows an emotion: ``happy``, ``sad`` or ``neutral``."""
+
+    t: float
+    person: str
+    emotion: str
+
+
+SocialEvent = SayEvent | EncourageEvent | EmotionEvent
+
+
+# --- furniture and objects from primitives ------------------------------------------------
+
+FURNITURE_COLOURS: dict[str, str] = {
+    "table": "#8b5a2b", "coffee_table": "#6b4226", "cake_table": "#f4f0ff", "chair": "#9c6b3c",
+    "armchair": "#7a3b3b", "sofa": "#4a5d7a", "bed": "#a07850", "shelf": "#b08850",
+    "tv": "#3b3b3b", "plant": "#b5651d",
+}
+_DARK: Rgb = (0.08, 0.08, 0.1)
+
+
+def _legs(d: float, w: float, h: float, c: Rgb, r: float = 0.025) -> list[Part]:
+    return [Part("cylinder", (r, h), c, (sx * (d / 2 - 2 * r), sy * (w / 2 - 2 * r), h / 2))
+            for sx in (1, -1) for sy in (1, -1)]
+
+
+def _upholstered(d: float, w: float, h: float, c: Rgb, seat: float) -> tuple[list[Part], float]:
+    """Seat block, back and two arms (armchair, sofa)."""
+    back, arm = min(0.2, d / 4), seat + 0.2
+    return [Part("box", (d, w, seat), c, (0, 0, seat / 2)),
+            Part("box", (back, w, h), c, (-d / 2 + back / 2, 0, h / 2)),
+            *[Part("box", (d, 0.15, arm), c, (0, s * (w / 2 - 0.075), arm / 2)) for s in (1, -1)]
+            ], seat
+
+
+def furniture_parts(kind: str, d: float, w: float, h: float, c: Rgb) -> tuple[list[Part], float]:
+    """Primitive parts of a furniture item (front facing +x) and the height of its top surface."""
+    dark = (c[0] * 0.6, c[1] * 0.6, c[2] * 0.6)
+    if kind in ("table", "coffee_table"):
+        return [Part("box", (d, w, 0.04), c, (0, 0, h - 0.02)), *_legs(d, w, h - 0.04, dark)], h
+    if kind == "cake_table":
+        return [Part("cylinder", (w / 2, 0.03), c, (0, 0, h - 0.015)),
+                Part("cylinder", (0.06, h - 0.03), (0.5, 0.5, 0.5), (0, 0, (h - 0.03) / 2)),
+                Part("cylinder", (0.25, 0.02), (0.5, 0.5, 0.5), (0, 0, 0.01))], h
+    if kind == "chair":
+        seat = 0.45
+        return [Part("box", (d, w, 0.05), c, (0, 0, seat - 0.025)),
+                Part("box", (0.05, w, h - seat), c, (-d / 2 + 0.025, 0, (seat + h) / 2)),
+                *_legs(d, w, seat - 0.05, dark, 0.02)], seat
+    if kind in ("armchair", "sofa"):
+        return _upholstered(d, w, h, c, 0.45 if kind == "armchair" else 0.42)
+    if kind == "bed":
+        return [Part("box", (d, w, 0.3), c, (0, 0, 0.15)),
+                Part("box", (d - 0.05, w - 0.05, h - 0.3), (0.95, 0.95, 0.92),
+                     (0, 0, (h + 0.3) / 2)),
+                Part("box", (0.35, w - 0.3, 0.1), (1, 1, 1), (-d / 2 + 0.3, 0, h + 0.05)),
+                Part("box", (0.06, w, 1.0), dark, (-d / 2 - 0.03, 0, 0.5))], h
+    if kind == "shelf":
+        boards = [Part("box", (d, w, 0.03), c, (0, 0, z * (h - 0.03) / 4 + 0.015))
+                  for z in range(5)]
+        sides = [Part("box", (d, 0.03, h), c, (0, s * (w / 2 - 0.015), h / 2)) for s in (1, -1)]
+        return [*boards, *sides, Part("box", (0.01, w, h), dark, (-d / 2 + 0.005, 0, h / 2))], h
+    if kind == "tv":
+        cabinet = 0.5
+        return [Part("box", (d, w, cabinet), c, (0, 0, cabinet / 2)),
+                Part("box", (0.05, 0.1, 0.08), _DARK, (0, 0, cabinet + 0.04)),
+                Part("box", (0.05, 0.9 * w, h - cabinet - 0.08), _DARK,
+                     (0, 0, (h + cabinet + 0.08) / 2)),
+                Part("box", (0.005, 0.86 * w, h - cabinet - 0.12), (0.12, 0.16, 0.22),
+                     (0.027, 0, (h + cabinet + 0.08) / 2), collide=False)], cabinet
+    if kind == "plant":
+        pot = 0.35
+        return [Part("cylinder", (d / 2 * 0.7, pot), c, (0, 0, pot / 2)),
+                Part("cylinder", (0.02, h - w / 2 - pot), (0.35, 0.25, 0.1),
+                     (0, 0, pot + (h - w / 2 - pot) / 2)),
+                Part("sphere", (w / 2,), (0.2, 0.55, 0.2), (0, 0, h - w / 2))], pot
+    raise ValueError(f"unknown furniture type {kind!r}")
+
+
+# pybullet_data models: file, scale for a realistic size, roll to stand it upright.
+URDF_OBJECTS: dict[str, tuple[str, float, float]] = {
+    "duck": ("duck_vhacd.urdf", 2.0, math.pi / 2),
+    "teddy": ("teddy_vhacd.urdf", 3.0, math.pi / 2),
+    "tray": ("tray/traybox.urdf", 0.6, 0.0),
+    "sphere": ("sphere2red.urdf", 0.2, 0.0),
+}
+OBJECT_COLOURS = {"mug": "#d9d4c7", "cake": "#f5d7b0", "ball": "#d23c3c", "book": "#2f6f4f",
+                  "plate": "#f7f7f7"}
+
+
+def object_xml(o: SceneObject, c: Rgb) -> str:
+    """URDF text of a primitive object (origin at its bottom centre), before scaling."""
+    k = o.scale
+
+    def part(shape: str, size: tuple[float, ...], colour: Rgb, xyz: tuple[float, float, float],
+             collide: bool = True) -> Part:
+        return Part(shape, tuple(v * k for v in size), colour,  # type: ignore[arg-type]
+                    (xyz[0] * k, xyz[1] * k, xyz[2] * k), collide=collide)
+
+    if o.type == "mug":
+        parts = [part("cylinder", (0.04, 0.1), c, (0, 0, 0.05)),
+                 part("box", (0.03, 0.012, 0.06), c, (0.05, 0, 0.05))]
+    elif o.type == "ball":
+        parts = [part("sphere", (0.11,), c, (0, 0, 0.11))]
+    elif o.type == "book":
+        parts = [part("box", (0.22, 0.16, 0.04), c, (0, 0, 0.02))]
+    elif o.type == "plate":
+        parts = [part("cylinder", (0.12, 0.015), c, (0, 0, 0.0075))]
+    else:  # cake: two layers with icing, candles as their own links (with flames when lit)
+        icing = (0.95, 0.6, 0.75)
+        parts = [part("cylinder", (0.15, 0.08), c, (0, 0, 0.04)),
+                 part("cylinder", (0.155, 0.01), icing, (0, 0, 0.085)),
+                 part("cylinder", (0.1, 0.06), c, (0, 0, 0.12)),
+                 part("cylinder", (0.103, 0.008), icing, (0, 0, 0.154))]
+        xml, colours = link_xml("base", parts), ((0.3, 0.5, 0.95), (0.95, 0.9, 0.3))
+        for i in range(o.candles):
+            a = 2 * math.pi * i / o.candles
+            r = 0.0 if o.candles == 1 else 0.07
+            flame = [part("sphere", (0.009,), (1.0, 0.7, 0.1), (0, 0, 0.07), False)]
+            flame = flame if o.lit else []
+            candle = [part("cylinder", (0.006, 0.06), colours[i % 2], (0, 0, 0.03)), *flame]
+            xml += link_xml(f"candle_{i}", candle)
+            xml += joint_xml(f"candle_{i}_joint", "base", f"candle_{i}",
+                             (r * math.cos(a) * k, r * math.sin(a) * k, 0.158 * k))
+        return xml
+    return link_xml("base", parts)
+
+
+# --- walls ----------------------------------------------------------------------------------
+
+
+Span = tuple[float, float]
+
+
+def _subtract(span: Span, cuts: list[Span]) -> list[Span]:
+    """The parts of ``span`` not covered by any of ``cuts`` (1-D intervals)."""
+    pieces = [span]
+    for c0, c1 in cuts:
+        pieces = [q for a, b in pieces for q in ((a, min(b, c0)), (max(a, c1), b))
+                  if q[1] - q[0] > 1e-6]
+    return pieces
+
+
+# --- the world ----------------------------------------------------------------------------
+
+
+@dataclass
+class _Walk:
+    t0: float
+    start: tuple[float, float]
+    yaw0: float
+    goal: tuple[float, float]
+    speed: float
+    yaw_end: float | None
+
+    def at(self, t: float) -> tuple[float, float, float, float, bool]:
+        """x, y, heading, distance walked and whether arrived, at time ``t``."""
+        dx, dy = self.goal[0] - self.start[0], self.goal[1] - self.start[1]
+        length = math.hypot(dx, dy)
+        walked = min(max(t - self.t0, 0.0) * self.speed, length)
+        f = walked / length if length > 1e-9 else 1.0
+        done = walked >= length
+        heading = math.atan2(dy, dx) if length > 1e-9 else self.yaw0
+        if done and self.yaw_end is not None:
+            heading = self.yaw_end
+        return self.start[0] + f * dx, self.start[1] + f * dy, heading, walked, done
+
+
+def _pose(place: Placement) -> Pose2D:
+    return Pose2D(place.x, place.y, math.radians(place.yaw))
+
+
+class World:
+    """A scenario's household in a PyBullet client: static scene, people and their timeline."""
+
+    def __init__(self, scenario: Scenario, client: int) -> None:
+        self.scenario = scenario
+        self.client = client
+        s = scenario.lighting
+        self.light = Light(s.direction, rgb(s.colour), s.ambient, s.diffuse, s.specular,
+                           s.shadows)
+        self.bodies: dict[str, int] = {}
+        self.people: dict[str, Person] = {}
+        self._specs = {person.name: person for person in scenario.people}
+        self._walks: dict[str, _Walk] = {}
+        self._untouchable: list[int] = []    # bodies people pass through (the robot)
+        self._footprints: list[Footprint] = []
+        self._tops: dict[str, float] = {}
+        p.setGravity(0, 0, -9.81, physicsClientId=client)
+        ground = p.createVisualShape(p.GEOM_BOX, halfExtents=(50, 50, 0.005),
+                                     visualFramePosition=(0, 0, -0.01), rgbaColor=GROUND,
+                                     physicsClientId=client)
+        self.bodies["ground"] = p.createMultiBody(
+            0, p.createCollisionShape(p.GEOM_PLANE, physicsClientId=client), ground,
+            physicsClientId=client)
+        self._build_house()
+        for f in scenario.furniture:
+            self._build_furniture(f)
+        for i, o in enumerate(scenario.objects):
+            self._build_object(o, o.name or f"{o.type}_{i}")
+        self._build_dock()
+        for spec in scenario.people:
+            if spec.start is not None:
+                self._spawn(spec.name, spec.start.x, spec.start.y, math.radians(spec.start.yaw),
+                            spec.start.pose)
+        # In time order; at equal times people enter first (others may walk up to them).
+        self._timeline = sorted(((e.at, spec.name, e) for spec in scenario.people
+                                 for e in spec.events), key=lambda i: (i[0], i[2].kind != "enter"))
+        self._times = [t for t, _, _ in self._timeline]
+
+    @classmethod
+    def from_file(cls, path: str | Path, client: int) -> World:
+        """Load the scenario at ``path`` and build it into ``client``."""
+        return cls(load_scenario(path), client)
+
+    # -- building ----------------------------------------------------------------------------
+
+    def _build_house(self) -> None:
+        rooms = self.scenario.rooms
+        floors = [Part("box", (r.x[1] - r.x[0], r.y[1] - r.y[0], 0.01), rgb(r.floor_colour),
+                       ((r.x[0] + r.x[1]) / 2, (r.y[0] + r.y[1]) / 2, -0.005), collide=False)
+                  for r in rooms]
+        walls: list[Part] = []
+        built: dict[tuple[str, float], list[tuple[float, float]]] = {}
+        doors: dict[tuple[str, float], list[tuple[float, float]]] = {}
+        for r in rooms:
+            for d in r.doors:
+                key, c = self._door_line(r.x, r.y, d.wall, d.offset)
+                doors.setdefault(key, []).append((c - d.width / 2, c + d.width / 2))
+        t = WALL_THICKNESS
+        for r in rooms:
+            colour, h = rgb(r.wall_colour), r.wall_height
+            sides = [(("h", r.y[0]), r.x), (("h", r.y[1]), r.x), (("v", r.x[0]), r.y),
+                     (("v", r.x[1]), r.y)]
+            for (axis, at), (a, b) in sides:
+                key = (axis, round(at, 3))
+                gaps = doors.get(key, [])
+                for a0, b0 in _subtract((a - t / 2, b + t / 2), gaps + built.get(key, [])):
+                    walls.append(self._wall_part(axis, at, a0, b0, 0.0, h, colour))
+                for g0, g1 in gaps:
+                    if h > DOOR_HEIGHT + 0.05 and a < (g0 + g1) / 2 < b:
+                        walls.append(self._wall_part(axis, at, g0, g1, DOOR_HEIGHT, h, colour))
+                built.setdefault(key, []).append((a - t / 2, b + t / 2))
+        ceilings = [Part("box", (r.x[1] - r.x[0], r.y[1] - r.y[0], 0.02), CEILING,
+                         ((r.x[0] + r.x[1]) / 2, (r.y[0] + r.y[1]) / 2, r.wall_height + 0.01),
+                         collide=False) for r in rooms if r.ceiling]
+        xml = link_xml("floor", floors) + link_xml("walls", walls) + link_xml("ceiling", ceilings)
+        xml += joint_xml("walls_joint", "floor", "walls", (0, 0, 0))
+        xml += joint_xml("ceiling_joint", "floor", "ceiling", (0, 0, 0))
+        self.bodies["house"] = load_urdf_text(self.client, "house", xml)
+
+    @staticmethod
+    def _door_line(x: tuple[float, float], y: tuple[float, float], wall: str,
+                   offset: float) -> tuple[tuple[str, float], float]:
+        """The wall line key of a door and its centre coordinate along that line."""
+        if wall in ("south", "north"):
+            return ("h", round(y[0] if wall == "south" else y[1], 3)), x[0] + offset
+        return ("v", round(x[0] if wall == "west" else x[1], 3)), y[0] + offset
+
+    def _wall_part(self, axis: str, at: float, a: float, b: float, z0: float, z1: float,
+                   colour: Rgb) -> Part:
+        mid, length, t = (a + b) / 2, b - a, WALL_THICKNESS
+        if z0 == 0.0:
+            self._footprints.append(Footprint(
+                "wall", "wall", mid if axis == "h" else at, at if axis == "h" else mid,
+                0.0, (length if axis == "h" else t) / 2, (t if axis == "h" else length) / 2))
+        size = (length, t, z1 - z0) if axis == "h" else (t, length, z1 - z0)
+        xyz = (mid, at, (z0 + z1) / 2) if axis == "h" else (at, mid, (z0 + z1) / 2)
+        return Part("box", size, colour, xyz)
+
+    def _build_furniture(self, f: Furniture) -> None:
+        d, w, h = f.dims
+        parts, top = furniture_parts(f.type, d, w, h, rgb(f.colour or FURNITURE_COLOURS[f.type]))
+        yaw = math.radians(f.yaw)
+        self.bodies[f.name] = build_body(self.client, f.name, parts, (f.x, f.y, 0), yaw)
+        self._tops[f.name] = top
+        self._footprints.append(Footprint(f.name, "furniture", f.x, f.y, yaw, d / 2, w / 2))
+
+    def _build_object(self, o: SceneObject, name: str) -> None:
+        x, y, z = o.x, o.y, 0.0
+        if o.on_top_of is not None:
+            base = next(f for f in self.scenario.furniture if f.name == o.on_top_of)
+            x, y = (base.x if x is None else x), (base.y if y is None else y)
+            z = self._tops[o.on_top_of]
+        assert x is not None and y is not None  # guaranteed by the scenario checks
+        yaw = math.radians(o.yaw)
+        if o.type in URDF_OBJECTS:
+            file, scale, roll = URDF_OBJECTS[o.type]
+            body = p.loadURDF(str(Path(pybullet_data.getDataPath()) / file), (0, 0, 0),
+                              p.getQuaternionFromEuler((roll, 0, yaw)), useFixedBase=True,
+                              globalScaling=scale * o.scale, physicsClientId=self.client)
+            if o.colour is not None:
+                p.changeVisualShape(body, -1, rgbaColor=(*rgb(o.colour), 1),
+                                    physicsClientId=self.client)
+        else:
+            colour = rgb(o.colour or OBJECT_COLOURS[o.type])
+            body = load_urdf_text(self.client, name, object_xml(o, colour), (0, 0, 0), yaw)
+        (x0, y0, z0), (x1, y1, _) = p.getAABB(body, -1, physicsClientId=self.client)
+        pos, orn = p.getBasePositionAndOrientation(body, physicsClientId=self.client)
+        p.resetBasePositionAndOrientation(
+            body, (x + pos[0] - (x0 + x1) / 2, y + pos[1] - (y0 + y1) / 2, z + pos[2] - z0),
+            orn, physicsClientId=self.client)
+        self.bodies[name] = body
+        if o.on_top_of is None:
+            self._footprints.append(Footprint(name, "object", x, y, 0.0, (x1 - x0) / 2,
+                                              (y1 - y0) / 2))
+
+    def _build_dock(self) -> None:
+        """A dark pad with yellow edges and a back plate carrying a cyan-cross marker.
+
+        The dock pose is where the robot stands when docked, facing the plate (+x locally).
+        """
+        yellow, white, cyan = (0.95, 0.8, 0.1), (0.95, 0.95, 0.95), (0.0, 0.85, 0.9)
+        plate_x = 0.38
+        parts = [Part("box", (0.7, 0.6, 0.02), (0.2, 0.2, 0.22), (0, 0, 0.01), collide=False),
+                 *[Part("box", (0.7, 0.05, 0.024), yellow, (0, s * 0.3, 0.012), collide=False)
+                   for s in (1, -1)],
+                 Part("box", (0.04, 0.5, 0.45), white, (plate_x, 0, 0.245)),
+                 Part("box", (0.006, 0.32, 0.32), _DARK, (plate_x - 0.023, 0, 0.27), collide=False),
+                 Part("box", (0.006, 0.24, 0.06), cyan, (plate_x - 0.027, 0, 0.27), collide=False),
+                 Part("box", (0.006, 0.06, 0.24), cyan, (plate_x - 0.027, 0, 0.27), collide=False)]
+        dock = self.dock_pose()
+        self.bodies["dock"] = build_body(self.client, "dock", parts, (dock.x, dock.y, 0), dock.yaw)
+        c, s = math.cos(dock.yaw), math.sin(dock.yaw)
+        self._footprints.append(Footprint("dock", "dock", dock.x + c * plate_x,
+                                          dock.y + s * plate_x, dock.yaw, 0.02, 0.25))
+
+    # -- people and the timeline ----------------------------------------------------------------
+
+    def _spawn(self, name: str, x: float, y: float, yaw: float, pose: str = "standing") -> None:
+        b = self._specs[name].body
+        look = Appearance(b.height, b.width, rgb(b.shirt), rgb(b.trousers), rgb(b.skin),
+                          rgb(b.hair))
+        self.people[name] = Person(self.client, look, x, y, yaw, pose, name)  # type: ignore[arg-type]
+        for body in self._untouchable:
+            self._no_contacts(self.people[name].body_id, body)
+
+    def pass_through(self, body: int) -> None:
+        """People, present and to come, make no contacts with ``body`` (the robot): they are
+        moved kinematically, and a person walking into the robot would throw its joints
+        about. Distance queries (the robot's own collision checks) still see them."""
+        self._untouchable.append(body)
+        for person in self.people.values():
+            self._no_contacts(person.body_id, body)
+
+    def _no_contacts(self, a: int, b: int) -> None:
+        c = self.client
+        for i in range(-1, p.getNumJoints(a, physicsClientId=c)):
+            for j in range(-1, p.getNumJoints(b, physicsClientId=c)):
+                p.setCollisionFilterPair(a, b, i, j, 0, physicsClientId=c)
+
+    def _door_spawn(self, door_name: str) -> Pose2D:
+        """Just inside a door, facing into its room."""
+        for r in self.scenario.rooms:
+            for d in r.doors:
+                if d.name == door_name:
+                    (axis, at), c = self._door_line(r.x, r.y, d.wall, d.offset)
+                    nx, ny = {"south": (0, 1), "north": (0, -1), "west": (1, 0),
+                              "east": (-1, 0)}[d.wall]
+                    x, y = (c, at) if axis == "h" else (at, c)
+                    return Pose2D(x + 0.4 * nx, y + 0.4 * ny, math.atan2(ny, nx))
+        raise KeyError(door_name)
+
+    def _where(self, name: str, t: float) -> Pose2D:
+        """Where a present person is at time ``t`` (following their current walk)."""
+        walk = self._walks.get(name)
+        if walk is not None:
+            x, y, yaw, _, _ = walk.at(t)
+            return Pose2D(x, y, yaw)
+        person = self.people[name]
+        return Pose2D(person.x, person.y, person.yaw)
+
+    def _apply(self, t: float, name: str, e: Event) -> SocialEvent | None:
+        if e.enter is not None:
+            spot = (self._door_spawn(e.enter.door) if e.enter.door is not None
+                    else Pose2D(e.enter.x, e.enter.y, math.radians(e.enter.yaw)))  # type: ignore[arg-type]
+            self._spawn(name, spot.x, spot.y, spot.yaw)
+        elif e.leave is not None:
+            self.people.pop(name).remove()
+            self._walks.pop(name, None)
+        elif e.walk_to is not None:
+            here = self._where(name, t)
+            goal = (e.walk_to.x, e.walk_to.y)
+            yaw_end = None if e.walk_to.yaw is None else math.radians(e.walk_to.yaw)
+            if e.walk_to.person is not None:
+                other = self._where(e.walk_to.person, t)
+                dx, dy = other.x - here.x, other.y - here.y
+                dist = math.hypot(dx, dy)
+                f = max(dist - STOP_SHORT, 0.0) / dist if dist > 1e-9 else 0.0
+                goal, yaw_end = (here.x + f * dx, here.y + f * dy), math.atan2(dy, dx)
+            self._walks[name] = _Walk(t, (here.x, here.y), here.yaw, goal,  # type: ignore[arg-type]
+                                      e.walk_to.speed, yaw_end)
+            if self.people[name].pose == "sitting":
+                self.people[name].set_pose("standing")
+        elif e.pose is not None:
+            here = self._where(name, t)
+            self._walks.pop(name, None)
+            self.people[name].place(here.x, here.y, here.yaw)
+            self.people[name].set_pose(e.pose)
+        elif e.say is not None:
+            return SayEvent(t, name, e.say.text, e.say.to)
+        elif e.encourage is not None:
+            return EncourageEvent(t, name, e.encourage)
+        elif e.emotion is not None:
+            return EmotionEvent(t, name, e.emotion)
+        return None
+
+    def advance(self, t_prev: float, t_now: float) -> list[SocialEvent]:
+        """Play the timeline over ``[t_prev, t_now)`` and move walkers to where they are at
+        ``t_now``; return the social events due, in time order. Call it with consecutive
+        intervals (0 to dt, dt to 2 dt, ...)."""
+        lo = bisect.bisect_left(self._times, t_prev)
+        hi = bisect.bisect_left(self._times, t_now)
+        social = [ev for t, name, e in self._timeline[lo:hi]
+                  if (ev := self._apply(t, name, e)) is not None]
+        for name, walk in list(self._walks.items()):
+            x, y, yaw, walked, done = walk.at(t_now)
+            person = self.people[name]
+            person.place(x, y, yaw)
+            if done:
+                del self._walks[name]
+                person.set_pose(person.pose)  # back from the walking gait
+            else:
+                person.set_gait(walked / (0.45 * person.appearance.height) * math.pi)
+        return social
+
+    # -- queries -------------------------------------------------------------------------------
+
+    def people_positions(self) -> dict[str, Pose2D]:
+        """Pose of every person now in the world."""
+        return {name: Pose2D(q.x, q.y, q.yaw) for name, q in self.people.items()}
+
+    def dock_pose(self) -> Pose2D:
+        """Where the robot stands when docked, facing the dock's marker plate."""
+        return _pose(self.scenario.dock)
+
+    def robot_start(self) -> Pose2D:
+        """The robot's start pose (the caller spawns the robot there)."""
+        return _pose(self.scenario.robot.start)
+
+    def room_bounds(self) -> dict[str, tuple[float, float, float, float]]:
+        """``(x_min, y_min, x_max, y_max)`` of each room, by name."""
+        return {r.name: (r.x[0], r.y[0], r.x[1], r.y[1]) for r in self.scenario.rooms}
+
+    def obstacles(self, include_people: bool = False) -> list[Footprint]:
+        """Floor footprints of walls, furniture, floor objects and the dock plate (and people)."""
+        out = list(self._footprints)
+        if include_people:
+            for name, person in self.people.items():
+                (x0, y0, _), (x1, y1, _) = person.aabb()
+                out.append(Footprint(name, "person", (x0 + x1) / 2, (y0 + y1) / 2, 0.0,
+                                     (x1 - x0) / 2, (y1 - y0) / 2))
+        return out

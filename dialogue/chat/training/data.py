@@ -1,0 +1,280 @@
+"""Chit-chat data: Papaya plus the English chatterbot corpus as (utterance -> reply) pairs.
+
+* **Papaya** (``data.papaya_dir``): ``Q:``/``A:`` lines, conversations separated by ``===``.
+  Each ``Q`` with the ``A`` after it is a pair (the robot's side is always ``A``).
+  ``_func_val_...`` tokens (client functions) are removed; slots such as ``_unk_`` or
+  ``_name_`` become ``<unk>`` in an utterance, and a reply that needs a slot is dropped.
+* **chatterbot-corpus** (the PyPI package, ``data/english/*.yml`` less
+  ``data.chatterbot_exclude``): every two consecutive lines of a conversation are a pair.
+
+Text is lower-cased and tokenised PTB-style (``do n't``, ``i 'm``, punctuation apart), the
+form Papaya already has. Pairs without a letter or digit on either side, or longer than
+``data.max_len`` tokens on either side, are dropped; so are repeated pairs and, beyond the
+first ``data.max_replies_per_input``, further replies to the same normalised utterance.
+Whole conversations are then dealt to test, validation and training (seeded); a held-out
+pair whose utterance also occurs in an earlier split is dropped, so no utterance leaks.
+"""
+
+from __future__ import annotations
+
+import re
+from collections import Counter
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from importlib import resources
+from itertools import pairwise
+from pathlib import Path
+
+import numpy as np
+import torch
+import yaml
+
+from app.core.errors import UserError
+from dialogue.chat.config import ChatDataConfig
+
+PAD, BOS, EOS, UNK = "<pad>", "<bos>", "<eos>", "<unk>"
+SPECIALS = (PAD, BOS, EOS, UNK)
+PAD_ID, BOS_ID, EOS_ID, UNK_ID = range(4)
+SPLITS = ("train", "valid", "test")
+FUNC = re.compile(r"_func_val_\S*")
+SLOT = re.compile(r"^_[a-z0-9]+_$")
+_NT = re.compile(r"(\w)n't\b")
+_CLITIC = re.compile(r"(\w)'(s|m|re|ve|ll|d)\b")
+_TOKEN = re.compile(r"<unk>|n't\b|'(?:s|m|re|ve|ll|d)\b|\w+(?:[-.]\w+)*|[^\w\s]")
+_QUOTES = str.maketrans({"\u2019": "'", "\u2018": "'", "\u201c": '"', "\u201d": '"'})
+_GLUE_LEFT = {".", ",", "!", "?", ";", ":", ")", "%", "n't", "'s", "'m", "'re", "'ve", "'ll",
+              "'d"}
+
+
+class ChatDataError(UserError):
+    """The chit-chat data is missing or unreadable."""
+
+
+Pair = tuple[tuple[str, ...], tuple[str, ...]]
+
+
+@dataclass
+class Conversation:
+    """The (utterance, reply) pairs of one conversation, still as raw text."""
+
+    source: str
+    pairs: list[tuple[str, str]] = field(default_factory=list)
+
+
+@dataclass
+class ChatData:
+    """Tokenised pairs per split and the counts of every filtering step."""
+
+    splits: dict[str, list[Pair]]
+    counts: dict[str, dict[str, int]]
+
+
+def tokenize(text: str) -> list[str]:
+    """Lower-case PTB-style tokens; ``_slot_`` placeholders become ``<unk>``."""
+    s = text.translate(_QUOTES).replace("``", '"').replace("''", '"').lower()
+    s = _CLITIC.sub(r"\1 '\2", _NT.sub(r"\1 n't", s))
+    return [UNK if SLOT.match(t) else t for t in _TOKEN.findall(s)]
+
+
+def detokenize(tokens: Sequence[str]) -> str:
+    """Readable text from tokens: punctuation and clitics glued, sentences capitalised."""
+    out, cap = "", True
+    for t in tokens:
+        word = t.upper() if t == "i" else t
+        if cap and word[:1].isalpha():
+            word, cap = word[:1].upper() + word[1:], False
+        if not out or out.endswith(("(", "$")) or t in _GLUE_LEFT:
+            out += word
+        else:
+            out += " " + word
+        cap = cap or t in (".", "!", "?")
+    return out
+
+
+def read_papaya(folder: Path) -> list[Conversation]:
+    """Conversations of every ``*.txt`` file in ``folder``, ``_func_val_`` tokens removed."""
+    files = sorted(folder.glob("*.txt")) if folder.is_dir() else []
+    if not files:
+        raise ChatDataError(f"{folder}: no Papaya *.txt files (set data.papaya_dir, or null "
+                            "to train without them)")
+    convs: list[Conversation] = []
+    for path in files:
+        conv, question = Conversation(f"papaya/{path.stem}"), None
+        for line in [*path.read_text(encoding="utf-8").splitlines(), "==="]:
+            line = line.strip()
+            if line.startswith("==="):
+                if conv.pairs:
+                    convs.append(conv)
+                conv, question = Conversation(f"papaya/{path.stem}"), None
+            elif line.startswith("Q:"):
+                question = line[2:]
+            elif line.startswith("A:") and question is not None:
+                conv.pairs.append((question, FUNC.sub(" ", line[2:])))
+                question = None
+    return convs
+
+
+def chatterbot_dir() -> Path:
+    """The English folder of the installed ``chatterbot-corpus`` package."""
+    try:
+        root = resources.files("chatterbot_corpus") / "data" / "english"
+    except ModuleNotFoundError:
+        raise ChatDataError("the chatterbot-corpus package is not installed (pip install "
+                            "chatterbot-corpus), or set data.chatterbot: false") from None
+    return Path(str(root))
+
+
+def read_chatterbot(exclude: Sequence[str] = ()) -> list[Conversation]:
+    """Consecutive-line pairs of the English chatterbot conversations."""
+    convs = []
+    for path in sorted(chatterbot_dir().glob("*.yml")):
+        if path.stem in exclude:
+            continue
+        doc = yaml.safe_load(path.read_text(encoding="utf-8")) or {}
+        for lines in doc.get("conversations") or []:
+            lines = [str(x) for x in lines if x is not None]
+            conv = Conversation(f"chatterbot/{path.stem}", list(pairwise(lines)))
+            if conv.pairs:
+                convs.append(conv)
+    return convs
+
+
+def _has_word(tokens: Sequence[str]) -> bool:
+    return any(t != UNK and t[:1].isalnum() for t in tokens)
+
+
+def _source_of(name: str) -> str:
+    return name.split("/", 1)[0]
+
+
+def load_chat_data(cfg: ChatDataConfig) -> ChatData:
+    """Read, normalise, filter, deduplicate and split the configured conversations."""
+    convs = read_papaya(p) if (p := cfg.resolved_papaya()) is not None else []
+    if cfg.chatterbot:
+        convs += read_chatterbot(cfg.chatterbot_exclude)
+    if not convs:
+        raise ChatDataError("no chit-chat data: enable data.papaya_dir or data.chatterbot")
+    counts: dict[str, Counter] = {}
+    seen_pairs: set[Pair] = set()
+    replies_per_input: Counter = Counter()
+    kept: list[tuple[int, Pair]] = []
+    for i, conv in enumerate(convs):
+        c = counts.setdefault(_source_of(conv.source), Counter())
+        c["conversations"] += 1
+        for q, a in conv.pairs:
+            c["raw_pairs"] += 1
+            src, tgt = tuple(tokenize(q)), tuple(tokenize(a))
+            if UNK in tgt or not _has_word(src) or not _has_word(tgt):
+                c["dropped_empty_or_slot"] += 1
+            elif len(src) > cfg.max_len or len(tgt) > cfg.max_len:
+                c["dropped_too_long"] += 1
+            elif (src, tgt) in seen_pairs:
+                c["dropped_duplicate_pair"] += 1
+            elif replies_per_input[src] >= cfg.max_replies_per_input:
+                c["dropped_duplicate_input"] += 1
+            else:
+                seen_pairs.add((src, tgt))
+                replies_per_input[src] += 1
+                kept.append((i, (src, tgt)))
+                c["kept"] += 1
+    splits = _split(kept, len(convs), cfg, counts)
+    if cfg.max_pairs is not None:
+        splits = {k: v[: max(1, round(cfg.max_pairs * f))]
+                  for (k, v), f in zip(splits.items(), cfg.split, strict=True)}
+    total = {k: sum(c.get(k, 0) for c in counts.values())
+             for k in sorted({k for c in counts.values() for k in c})}
+    out = {name: dict(c) for name, c in counts.items()} | {"total": total}
+    out["split"] = {k: len(v) for k, v in splits.items()}
+    return ChatData(splits, out)
+
+
+def _split(kept: list[tuple[int, Pair]], n_convs: int, cfg: ChatDataConfig,
+           counts: dict[str, Counter]) -> dict[str, list[Pair]]:
+    """Deal whole conversations to test, then validation, then training (seeded)."""
+    order = np.random.default_rng(cfg.seed).permutation(n_convs)
+    per_conv: dict[int, list[Pair]] = {}
+    for i, pair in kept:
+        per_conv.setdefault(i, []).append(pair)
+    quota = {"test": cfg.split[2] * len(kept), "valid": cfg.split[1] * len(kept)}
+    splits: dict[str, list[Pair]] = {k: [] for k in SPLITS}
+    for i in order:
+        name = next((k for k in ("test", "valid") if len(splits[k]) < quota[k]), "train")
+        splits[name].extend(per_conv.get(int(i), []))
+    seen = {src for src, _ in splits["train"]}
+    leaks = Counter()
+    for name in ("valid", "test"):
+        clean = [p for p in splits[name] if p[0] not in seen]
+        leaks[f"dropped_leak_{name}"] = len(splits[name]) - len(clean)
+        splits[name] = clean
+        seen |= {src for src, _ in clean}
+    counts["split_leaks"] = leaks
+    return {k: splits[k] for k in SPLITS}
+
+
+class Vocab:
+    """Token <-> id; ids 0-3 are ``<pad> <bos> <eos> <unk>``."""
+
+    def __init__(self, itos: Sequence[str]) -> None:
+        if tuple(itos[:4]) != SPECIALS:
+            raise ValueError("a vocabulary starts with <pad> <bos> <eos> <unk>")
+        self.itos = list(itos)
+        self.stoi = {t: i for i, t in enumerate(self.itos)}
+
+    @classmethod
+    def build(cls, pairs: Sequence[Pair], min_count: int) -> Vocab:
+        """Tokens seen at least ``min_count`` times in the pairs (most frequent first)."""
+        counts = Counter(t for src, tgt in pairs for t in (*src, *tgt))
+        words = sorted((t for t, n in counts.items() if n >= min_count and t not in SPECIALS),
+                       key=lambda t: (-counts[t], t))
+        return cls([*SPECIALS, *words])
+
+    def __len__(self) -> int:
+        return len(self.itos)
+
+    def encode(self, tokens: Sequence[str]) -> list[int]:
+        """Ids of ``tokens``; unknown tokens map to ``<unk>``."""
+        return [self.stoi.get(t, UNK_ID) for t in tokens]
+
+    def decode(self, ids: Sequence[int]) -> list[str]:
+        """Tokens of ``ids``, stopping at ``<eos>`` and skipping the other specials."""
+        out = []
+        for i in ids:
+            if i == EOS_ID:
+                break
+            if i > UNK_ID:
+                out.append(self.itos[i])
+        return out
+
+
+@dataclass(frozen=True)
+class Batch:
+    """Padded tensors of one batch; masks are True on real tokens."""
+
+    src: torch.Tensor  # (B, S) utterance ids
+    src_mask: torch.Tensor  # (B, S)
+    tgt_in: torch.Tensor  # (B, T) <bos> + reply
+    tgt_out: torch.Tensor  # (B, T) reply + <eos>
+    tgt_mask: torch.Tensor  # (B, T)
+
+
+def _pad(rows: Sequence[Sequence[int]]) -> torch.Tensor:
+    out = torch.full((len(rows), max(len(r) for r in rows)), PAD_ID, dtype=torch.long)
+    for i, r in enumerate(rows):
+        out[i, : len(r)] = torch.tensor(r, dtype=torch.long)
+    return out
+
+
+def make_batch(pairs: Sequence[Pair], vocab: Vocab) -> Batch:
+    """One padded batch of ``pairs`` (empty utterances get a single ``<unk>``)."""
+    src = _pad([vocab.encode(s) or [UNK_ID] for s, _ in pairs])
+    tgt = [vocab.encode(t) for _, t in pairs]
+    tgt_in, tgt_out = _pad([[BOS_ID, *t] for t in tgt]), _pad([[*t, EOS_ID] for t in tgt])
+    return Batch(src, src != PAD_ID, tgt_in, tgt_out, tgt_out != PAD_ID)
+
+
+def batches(pairs: Sequence[Pair], vocab: Vocab, batch_size: int,
+            rng: np.random.Generator | None = None) -> Iterator[Batch]:
+    """Batches over ``pairs``, shuffled when ``rng`` is given (the last one may be short)."""
+    order = rng.permutation(len(pairs)) if rng is not None else np.arange(len(pairs))
+    for start in range(0, len(order), batch_size):
+        yield make_batch([pairs[i] for i in order[start:start + batch_size]], vocab)

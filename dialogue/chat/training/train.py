@@ -1,0 +1,150 @@
+"""Training the chit-chat bot: one readable loop in the CleanRL manner.
+
+Every hyper-parameter comes from ``app/defaults/chat.yaml`` (or a ``--config`` file over it).
+The loop writes as it goes: ``train_log.csv`` (flushed every ``log_every`` batches),
+``eval_log.csv`` (one row per epoch), an atomic resumable ``checkpoint.pt`` every
+``checkpoint_every`` epochs and on Ctrl-C, and ``chat.pt``, the weights with the best
+validation perplexity so far (the model file to export).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+import yaml
+from tqdm import tqdm
+
+from app.core.checkpoint import atomic_torch_save, claim_run_folder
+from dialogue.chat.config import ChatConfig
+from dialogue.chat.model import Seq2Seq, save_chat_model
+from dialogue.chat.training.data import ChatDataError, Vocab, batches, load_chat_data
+from dialogue.chat.training.evaluate import perplexity
+
+TRAIN_FIELDS = ["epoch", "step", "loss", "perplexity", "lr", "wall_s"]
+EVAL_FIELDS = ["epoch", "step", "train_perplexity", "valid_perplexity", "best", "lr", "wall_s"]
+MODEL_FILE = "chat.pt"
+
+
+def count_parameters(net: torch.nn.Module) -> int:
+    """Number of trainable parameters (the tied embedding counted once)."""
+    return sum(p.numel() for p in net.parameters() if p.requires_grad)
+
+
+def train(cfg: ChatConfig, out_dir: Path, resume: bool = False, progress: bool = True) -> dict:
+    """Train into ``out_dir``; returns a summary with the best validation perplexity."""
+    tc = cfg.train
+    ckpt_path, model_path = out_dir / "checkpoint.pt", out_dir / MODEL_FILE
+    log_path, eval_path = out_dir / "train_log.csv", out_dir / "eval_log.csv"
+    claim_run_folder(out_dir, ckpt_path, resume)
+    torch.set_num_threads(tc.threads)
+    torch.manual_seed(tc.seed)
+    data = load_chat_data(cfg.data)
+    train_pairs, valid_pairs = data.splits["train"], data.splits["valid"]
+    vocab = Vocab.build(train_pairs, cfg.data.min_count)
+    net = Seq2Seq(len(vocab), cfg.model)
+    optimizer = torch.optim.Adam(net.parameters(), lr=tc.learning_rate,
+                                 weight_decay=tc.weight_decay)
+    scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
+        optimizer, mode="min", factor=tc.lr_decay, patience=tc.lr_patience)
+    epoch = step = position = bad_epochs = 0
+    best, wall_offset = math.inf, 0.0
+    plain_cfg = cfg.model_dump(mode="json")
+
+    if ckpt_path.exists():
+        state = torch.load(ckpt_path, map_location="cpu", weights_only=True)
+        if state["vocab"] != vocab.itos:
+            raise ChatDataError(f"{ckpt_path}: its vocabulary differs from the data now; "
+                                "the data or data config changed since it was written")
+        net.load_state_dict(state["net"])
+        optimizer.load_state_dict(state["optimizer"])
+        scheduler.load_state_dict(state["scheduler"])
+        torch.set_rng_state(state["torch_rng"])
+        epoch, step, position, bad_epochs = state["counters"]
+        best, wall_offset = state["best"], state["wall_s"]
+    else:
+        (out_dir / "resolved_config.yaml").write_text(yaml.safe_dump(plain_cfg, sort_keys=False))
+        (out_dir / "data_counts.json").write_text(json.dumps(data.counts, indent=2))
+        for path, fields in ((log_path, TRAIN_FIELDS), (eval_path, EVAL_FIELDS)):
+            with path.open("w", newline="") as fh:
+                csv.writer(fh).writerow(fields)
+
+    start = time.perf_counter()
+    rng_at_position = torch.get_rng_state()  # the RNG as it was when `position` was reached
+
+    def wall() -> float:
+        return wall_offset + time.perf_counter() - start
+
+    def save_checkpoint() -> None:
+        atomic_torch_save({"net": net.state_dict(), "optimizer": optimizer.state_dict(),
+                           "scheduler": scheduler.state_dict(), "vocab": vocab.itos,
+                           "torch_rng": rng_at_position,
+                           "counters": (epoch, step, position, bad_epochs), "best": best,
+                           "wall_s": wall()}, ckpt_path)
+
+    per_epoch = math.ceil(len(train_pairs) / tc.batch_size)
+    bar = tqdm(total=tc.epochs * per_epoch, initial=epoch * per_epoch + position,
+               disable=not progress, desc="train chat", unit="batch")
+    log_file = log_path.open("a", newline="")
+    log = csv.writer(log_file)
+    window = [0.0, 0]  # summed nll and tokens since the last log row
+    try:
+        while epoch < tc.epochs and (tc.early_stop is None or bad_epochs < tc.early_stop):
+            net.train()
+            epoch_nll, epoch_tokens = 0.0, 0
+            rng = np.random.default_rng(tc.seed * 100_003 + epoch)  # same order on resume
+            for i, batch in enumerate(batches(train_pairs, vocab, tc.batch_size, rng)):
+                if i < position:
+                    continue
+                nll, n = net.token_nll(batch)
+                optimizer.zero_grad()
+                (nll / n).backward()
+                if tc.max_grad_norm is not None:
+                    torch.nn.utils.clip_grad_norm_(net.parameters(), tc.max_grad_norm)
+                optimizer.step()
+                step, position = step + 1, i + 1
+                rng_at_position = torch.get_rng_state()
+                window[0] += nll.item()
+                window[1] += n
+                epoch_nll, epoch_tokens = epoch_nll + nll.item(), epoch_tokens + n
+                bar.update(1)
+                if step % tc.log_every == 0:
+                    loss = window[0] / window[1]
+                    log.writerow([epoch + 1, step, f"{loss:.4f}", f"{math.exp(loss):.2f}",
+                                  f"{optimizer.param_groups[0]['lr']:.2e}", f"{wall():.1f}"])
+                    log_file.flush()
+                    bar.set_postfix(loss=f"{loss:.3f}", best=f"{best:.1f}")
+                    window = [0.0, 0]
+            valid_ppl = perplexity(net, valid_pairs, vocab, tc.batch_size)
+            scheduler.step(valid_ppl)
+            improved = valid_ppl < best
+            epoch, position = epoch + 1, 0
+            bad_epochs = 0 if improved else bad_epochs + 1
+            if improved:
+                best = valid_ppl
+                save_chat_model(model_path, net, vocab, plain_cfg, {
+                    "epoch": epoch, "step": step, "valid_perplexity": valid_ppl,
+                    "seed": tc.seed, "parameters": count_parameters(net),
+                    "pairs": data.counts["split"]})
+            train_ppl = math.exp(epoch_nll / max(epoch_tokens, 1)) if epoch_tokens else math.nan
+            with eval_path.open("a", newline="") as fh:
+                csv.writer(fh).writerow([epoch, step, f"{train_ppl:.2f}", f"{valid_ppl:.2f}",
+                                         int(improved), f"{optimizer.param_groups[0]['lr']:.2e}",
+                                         f"{wall():.1f}"])
+            if epoch % tc.checkpoint_every == 0:
+                save_checkpoint()
+    except KeyboardInterrupt:
+        save_checkpoint()
+        raise
+    finally:
+        log_file.close()
+        bar.close()
+    save_checkpoint()
+    return {"model": str(model_path), "best_valid_perplexity": best, "epochs": epoch,
+            "steps": step, "vocab": len(vocab), "parameters": count_parameters(net),
+            "pairs": data.counts["split"], "wall_s": round(wall(), 1)}

@@ -1,0 +1,178 @@
+"""``companion data vqg``, ``companion train vqg``, ``companion eval vqg`` and ``companion ask``.
+
+Heavy modules (torch, the renderer) are imported inside the handlers so that
+``companion --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from app.core.cli_args import integer
+from app.core.paths import MODELS_DIR
+
+DEFAULT_MODEL = MODELS_DIR / "vqg.pt"
+
+
+def add_data(sub: argparse._SubParsersAction) -> None:
+    """Register ``data vqg``."""
+    p = sub.add_parser("vqg", help="render the visual-question-generation data set",
+                       description="Render household frames from the robot's head camera with "
+                       "their scene graphs and grounded questions: images/, scenes/, "
+                       "questions/{split}.jsonl and meta.json in --out. Resumable.")
+    p.add_argument("--out", type=Path, required=True, help="data set folder")
+    for split in ("train", "val", "test"):
+        p.add_argument(f"--{split}", type=integer(0),
+                       help=f"{split} images (default from the config)")
+    p.add_argument("--seed", type=int, help="base seed (default from the config)")
+    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg_data.yaml")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    p.set_defaults(func=run_data)
+
+
+def add_train(sub: argparse._SubParsersAction) -> None:
+    """Register ``train vqg``."""
+    p = sub.add_parser("vqg", help="train the visual question generator",
+                       description="Pre-train the image encoder, then the categorical VAE, then "
+                       "the adversarial phase with D1 and D2 (thesis §3.4). Writes "
+                       "checkpoint.pt (resumable), log_*.csv, valid_log.csv, summary.json "
+                       "and the best validated model vqg.pt into --out.")
+    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
+    p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
+    p.add_argument("--out", type=Path, default=Path("runs/vqg-train"), help="run folder")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--export", type=Path, help="also copy vqg.pt here (assets/models/vqg.pt)")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    p.add_argument("--ablation", choices=["no_d1", "no_d2", "gaussian"],
+                   help="train an ablation: without D1, without D2, or a Gaussian latent")
+    p.add_argument("--image-from", type=Path, metavar="FILE",
+                   help="skip the image phase: reuse another run's image_encoder.pt")
+    p.set_defaults(func=run_train)
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``eval vqg``."""
+    p = sub.add_parser("vqg", help="distinct questions, DM, RI, RS, BLEU and latency of the "
+                       "question generator", description="Sample --samples latent codes for "
+                       "each of --images test images and score the distinct questions by "
+                       "program (docs/vqg.md). With --ablations, first train the full model "
+                       "and each ablation on a shortened schedule and print a table.")
+    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
+    p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
+    p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to evaluate")
+    p.add_argument("--images", type=integer(1), help="test images (default eval.images: 50)")
+    p.add_argument("--split", choices=["test", "val"], default="test",
+                   help="score these images (val: to tune decode settings, default test)")
+    p.add_argument("--samples", type=integer(1), help="latent samples per image (default 100)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--out", type=Path, default=Path("runs/vqg-eval"),
+                   help="folder for metrics.json")
+    p.add_argument("--ablations", type=Path, metavar="DIR",
+                   help="train and evaluate the ablations into DIR (runs/vqg-ablations)")
+    p.add_argument("--image-from", type=Path, metavar="FILE",
+                   help="with --ablations: reuse this image_encoder.pt in every run")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    p.set_defaults(func=run_eval)
+
+
+def add_commands(sub: argparse._SubParsersAction) -> None:
+    """Register ``ask``."""
+    p = sub.add_parser("ask", help="ask questions about an image (visual question generation)",
+                       description="Print up to -n distinct questions about an RGB image, "
+                       "best first, one a line.")
+    p.add_argument("image", type=Path, metavar="IMAGE.png")
+    p.add_argument("-n", type=integer(1), default=10, help="how many questions (default 10)")
+    p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to use")
+    p.add_argument("--seed", type=int, default=0, help="seed of the latent codes")
+    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml (decode)")
+    p.set_defaults(func=run_ask)
+
+
+def _config(args: argparse.Namespace):
+    from perception.vqg.config import load_vqg_config
+
+    cfg = load_vqg_config(args.config)
+    if args.data is not None:
+        cfg = cfg.model_copy(update={"data": cfg.data.model_copy(
+            update={"dir": args.data.resolve()})})
+    return cfg
+
+
+def run_data(args: argparse.Namespace) -> int:
+    """Handler of ``companion data vqg``."""
+    from perception.vqg.training.data import load_vqg_data_config, write_vqg_dataset
+
+    cfg = load_vqg_data_config(args.config)
+    if args.seed is not None:
+        cfg = cfg.model_copy(update={"seed": args.seed})
+    splits = dict(cfg.splits)
+    for name in ("train", "val", "test"):
+        value = getattr(args, name)
+        if value is not None:
+            splits[name] = value
+    write_vqg_dataset(args.out, cfg, splits, progress=not args.no_progress)
+    print(f"VQG data set in {args.out} ({', '.join(f'{k} {v}' for k, v in splits.items())})")
+    return 0
+
+
+def run_train(args: argparse.Namespace) -> int:
+    """Handler of ``companion train vqg``."""
+    from perception.vqg.training.train import train
+
+    cfg = _config(args).ablated(args.ablation)
+    summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
+                    image_from=args.image_from)
+    if args.export:
+        from app.core.checkpoint import atomic_copy
+
+        atomic_copy(args.out / "vqg.pt", args.export)
+    print(json.dumps(summary, indent=2))
+    return 0
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """Handler of ``companion eval vqg``."""
+    from perception.vqg.training.evaluate import evaluate, format_table, run_ablations
+
+    cfg = _config(args)
+    images = args.images or cfg.eval.images
+    samples = args.samples or cfg.eval.samples
+    if args.ablations is not None:
+        ev = cfg.eval.model_copy(update={"images": images, "samples": samples})
+        rows = run_ablations(cfg.model_copy(update={"eval": ev}), args.ablations,
+                             progress=not args.no_progress, image_from=args.image_from)
+        print(json.dumps(rows) if args.json else format_table(rows))
+        return 0
+    result = evaluate(args.model, cfg, images, samples, args.split)
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / "metrics.json").write_text(json.dumps(result, indent=2))
+    if args.json:
+        print(json.dumps({k: v for k, v in result.items() if k != "examples"}))
+    else:
+        for k in ("distinct_per_image", "dm", "ri", "rs", "bleu", "latency_ms"):
+            bar = cfg.eval.bars.get(k)
+            verdict = ("" if bar is None
+                       else f"  (bar {bar}: {'pass' if result['pass'][k] else 'FAIL'})")
+            print(f"{k:>20}: {result[k]:.3f}{verdict}")
+        print(f"\nmetrics.json and examples in {args.out}")
+    return 0
+
+
+def run_ask(args: argparse.Namespace) -> int:
+    """Handler of ``companion ask``."""
+    import cv2
+
+    from app.core.errors import UserError
+    from perception.vqg.config import load_vqg_config
+    from perception.vqg.generator import VqgQuestionGenerator
+
+    bgr = cv2.imread(str(args.image), cv2.IMREAD_COLOR)
+    if bgr is None:
+        raise UserError(f"{args.image}: cannot read the image")
+    gen = VqgQuestionGenerator.load(args.model, seed=args.seed,
+                                    decode=load_vqg_config(args.config).decode)
+    for q in gen.ask(bgr[..., ::-1].copy(), args.n):
+        print(q)
+    return 0
