@@ -25,8 +25,10 @@ $(STAMP): pyproject.toml constraints.txt
 demo: $(STAMP)
 	$(BIN)/companion run $(WORLD) --out $(OUT)
 
+# lint-imports checks the import contracts of pyproject.toml (the layers of docs/architecture.md).
 test: $(STAMP)
 	$(BIN)/ruff check .
+	$(BIN)/lint-imports
 	$(BIN)/pytest
 
 # Refresh the behaviour-tree snapshots in tests/snapshots/ after an intended change.
@@ -36,7 +38,7 @@ snapshots: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python bench/bench_env.py
 
-# Optional: espeak-ng renders the robot's sentences to WAV files (app/speech.py); without it
+# Optional: espeak-ng renders the robot's sentences to WAV files (app/sim/speech.py); without it
 # speech is only logged. Debian/Ubuntu package; sudo is used when not run as root.
 SUDO = $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 tts:

@@ -12,8 +12,9 @@ import importlib
 import sys
 
 from app import __version__
+from app.core.errors import UserError
 
-DOMAINS = ["app.mind.policy.cli", "dialogue.cli", "dialogue.style.training.cli",
+DOMAINS = ["app.mind.policy.training.cli", "dialogue.cli", "dialogue.style.training.cli",
            "dialogue.chat.training.cli", "perception.detector.training.cli",
            "perception.vqg.training.cli", "app.run_cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
@@ -44,8 +45,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; configuration and model-file errors exit with status 2."""
-    from app.core.errors import UserError
-
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)

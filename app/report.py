@@ -8,6 +8,10 @@ from collections import Counter, defaultdict
 from pathlib import Path
 from typing import IO, Any
 
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 import numpy as np
 
 from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
@@ -81,11 +85,6 @@ def write_metrics(metrics: dict[str, Any], path: Path) -> None:
 def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray,
              threshold: float, out: Path) -> list[Path]:
     """``motivations.png``, ``actions.png`` and ``mood.png`` in ``out``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     out.mkdir(parents=True, exist_ok=True)
     if not history:
         return []
@@ -133,8 +132,6 @@ def _spans(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:
 
 
 def _save(fig: Any, path: Path) -> Path:
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -19,10 +19,21 @@ import cv2
 import numpy as np
 import py_trees
 import yaml
+from tqdm import tqdm
 
+from app.mind.policy.agent import DQNPolicy
+from app.mind.policy.config import DEFAULT_POLICY
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
 from app.sim.scenario import Scenario
 from app.sim.simulation import Simulation
+from behaviours.config import load_behaviour_config
+from behaviours.context import Context, make_context
+from behaviours.ticking import SimulationTree
+from behaviours.tree import build_tree, render
+from dialogue.factory import household_dialogue
+from perception.detector.config import load_detector_config
+from perception.detector.yolo import YoloDetector
+from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 
 
 class FrameSaver:
@@ -43,19 +54,14 @@ class FrameSaver:
 
 @dataclass
 class HouseholdRun:
-    """A built run: the simulation, the household services and the tree."""
+    """A built run: the simulation, the behaviours' context and the tree, set up (its
+    ``tick()`` steps the simulation, then ticks the behaviours)."""
 
     scenario: Scenario
     sim: Simulation
-    house: Any
-    root: py_trees.behaviour.Behaviour
+    ctx: Context
+    tree: SimulationTree
     saver: FrameSaver
-
-    def tick(self) -> None:
-        """Advance the simulation one step and tick the tree once."""
-        self.house.inbox.extend(self.sim.step())
-        self.house.clock.t = self.sim.t
-        self.root.tick_once()
 
 
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
@@ -64,15 +70,6 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     """Build the world, the robot's services (detector, dialogue, question generator,
     policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
     ask-question skill fails (it has no canned questions)."""
-    from app.mind.policy.agent import DEFAULT_POLICY, DQNPolicy
-    from behaviours.config import load_behaviour_config
-    from behaviours.context import make_household
-    from behaviours.tree import build_tree
-    from dialogue.factory import household_dialogue
-    from perception.detector.config import load_detector_config
-    from perception.detector.yolo import YoloDetector
-    from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
-
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
     policy = DQNPolicy.load(policy_path or DEFAULT_POLICY)
@@ -86,67 +83,63 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     dialogue = household_dialogue(scenario, lambda: sim.t, out, take_photo)
     questions = (VqgQuestionGenerator.load(DEFAULT_VQG_MODEL, seed=scenario.seed)
                  if DEFAULT_VQG_MODEL.is_file() else None)
-    house = make_household(sim, config, detector, events_path=out / "events.jsonl",
-                           audio_dir=out / "audio" if audio else None, dialogue=dialogue,
-                           questions=questions)
-    house.snapshot = saver
-    root = build_tree(house, policy, scenario.robot.initial_drives())
-    root.setup_with_descendants()
-    return HouseholdRun(scenario, sim, house, root, saver)
+    ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
+                       audio_dir=out / "audio" if audio else None, dialogue=dialogue,
+                       questions=questions)
+    ctx.snapshot = saver
+    tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
+    tree.setup()
+    return HouseholdRun(scenario, sim, ctx, tree, saver)
 
 
 def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
                  policy_path: Path | None = None, behaviour_config: Path | None = None,
                  audio: bool = False) -> dict[str, Any]:
     """Run ``scenario`` for its duration and write the run folder; returns the metrics."""
-    from tqdm import tqdm
-
-    from behaviours.tree import render
-
     wall0 = time.perf_counter()
     run = build_run(scenario, out, gui=gui, policy_path=policy_path,
                     behaviour_config=behaviour_config, audio=audio)
     (out / "scenario.yaml").write_text(yaml.safe_dump(scenario.model_dump(mode="json"),
                                                       sort_keys=False))
-    sim, house, root, saver = run.sim, run.house, run.root, run.saver
+    sim, ctx, tree, saver = run.sim, run.ctx, run.tree, run.saver
     with sim:
-        (out / "tree.txt").write_text(render(root) + "\n")
+        (out / "tree.txt").write_text(render(tree.root) + "\n")
         timeline = TimelineWriter(out / "timeline.csv")
         bb = py_trees.blackboard.Client(name="run")
         bb.register_key("frame", access=py_trees.common.Access.READ)
-        house.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
-                          duration=scenario.duration, step=scenario.step)
+        ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
+                        duration=scenario.duration, step=scenario.step)
         steps, interrupted, seen = round(scenario.duration / scenario.step), False, 0
         try:
             with tqdm(total=scenario.duration, unit="sim s", disable=not progress,
                       bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} sim s [{elapsed}]") as bar:
                 for _ in range(steps):
-                    run.tick()
-                    timeline.write(house.history)
-                    for e in house.events.events[seen:]:
+                    tree.tick()
+                    timeline.write(ctx.history)
+                    for e in ctx.events.events[seen:]:
                         if e["kind"] == "action":
                             saver(e["action"], bb.frame)
-                    seen = len(house.events.events)
+                    seen = len(ctx.events.events)
                     bar.update(scenario.step)
         except KeyboardInterrupt:
             interrupted = True
-            house.events.emit("interrupted")
-        (out / "tree.txt").write_text(render(root) + "\n\nLast tick:\n"
-                                      + render(root, show_status=True) + "\n")
-        root.stop(py_trees.common.Status.INVALID)
+            ctx.events.emit("interrupted")
+        (out / "tree.txt").write_text(render(tree.root) + "\n\nLast tick:\n"
+                                      + render(tree.root, show_status=True) + "\n")
+        tree.stop()
         timeline.close()
-        house.events.emit("run_finished", interrupted=interrupted)
-        house.events.close()
+        ctx.events.emit("run_finished", interrupted=interrupted)
+        ctx.events.close()
         metrics = {
             "scenario": scenario.name, "seed": scenario.seed, "duration_s": sim.t,
-            "interrupted": interrupted, **compute_metrics(house.history, house.events.events),
-            "camera_frames": house.frames_taken,
-            "camera_rate_hz": {"default": house.camera_rate,
-                               "tracking": house.config.perception.tracking_rate},
+            "interrupted": interrupted, **compute_metrics(ctx.history, ctx.events.events),
+            "camera_frames": ctx.frames_taken,
+            "camera_rate_hz": {"default": ctx.camera_rate,
+                               "tracking": ctx.config.perception.tracking_rate},
             "wall_s": round(time.perf_counter() - wall0, 2),
             "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         }
-        h = house.homeostasis
-        plot_run(house.history, h.lower, h.upper, h.personality.mood.threshold, out / "plots")
+        h = ctx.homeostasis
+        plot_run(ctx.history, h.lower, h.upper, h.personality.mood.threshold, out / "plots")
     write_metrics(metrics, out / "metrics.json")
     return metrics

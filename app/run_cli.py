@@ -1,4 +1,7 @@
-"""``companion run SCENARIO``: a headless household run with its report."""
+"""``companion run SCENARIO``: a headless household run with its report.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 

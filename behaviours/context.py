@@ -1,9 +1,8 @@
-"""What the behaviours of a household run share.
+"""What the behaviours of a tree share: their :class:`Context`.
 
-:class:`Household` holds the simulated robot and world, the services the skills call
-(speech, detector, dialogue, question generator) and the run's clock and event log. The
-tree's state lives on the py_trees blackboard under the keys of :data:`KEYS`, so that
-``py_trees.display`` can show it and every behaviour declares what it reads and writes.
+The context holds the simulated robot and world, the services the skills call (speech,
+detector, dialogue, question generator) and the run's clock and event log. The tree's
+state lives on the py_trees blackboard instead (``behaviours/blackboard.py``).
 """
 
 from __future__ import annotations
@@ -12,14 +11,16 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
+import py_trees
 
 from app.core.events import EventLog
 from app.mind.homeostasis import Homeostasis
+from app.mind.personality import load_personality
 from app.sim.navigation import PathFollower
 from app.sim.robot import Robot
 from app.sim.speech import Speaker
 from app.sim.world import World
-from behaviours.config import BehaviourConfig
+from behaviours.config import BehaviourConfig, load_behaviour_config
 from perception.detector.yolo import Detector
 
 
@@ -43,8 +44,10 @@ class SimClock:
 
 
 @dataclass
-class Household:
-    """The simulated household and the services a skill may use."""
+class Context:
+    """What every behaviour of a tree sees: the simulated robot and world, the robot's
+    homeostasis and services, the behaviour parameters, the simulated clock and the event
+    log (one per run; :func:`make_context` makes it from a simulation)."""
 
     robot: Robot
     world: World
@@ -75,45 +78,23 @@ class Household:
                             self.config.charge.waypoint_tolerance, self.clock)
 
 
-# Blackboard keys (all at the root namespace) and what they hold.
-KEYS = {
-    "stimuli": "np.ndarray (3,): overheat, human_present, encouragement (0/1)",
-    "drives": "np.ndarray (6,) in [0, 1]",
-    "motivations": "np.ndarray (6,): eq. 3.4",
-    "mood": "dict: value (eq. 3.6) and positive (bool)",
-    "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
-    "action": "str | None: the running action (app.mind.personality.ACTIONS)",
-    "relieving": "bool: the running skill is satisfying its drive now",
-    "progress": "int: homeostasis steps the running skill has been relieving",
-    "act_status": "py_trees Status of the act subtree at the last tick",
-    "frame": "np.ndarray | None: the latest head-camera frame (RGB)",
-    "depth": "np.ndarray | None: its depth image (m along the optical axis, float32)",
-    "frame_t": "float: when it was taken (simulated s)",
-    "detections": "list[Detection] in the latest frame",
-    "heard": "list[SayEvent]: what people said to the robot, not yet answered",
-    "tracking": "float: camera rate (Hz) a skill steering by person boxes asks for; 0: none",
-}
-
-
-def make_household(sim: Any, config: BehaviourConfig | None = None,
-                   detector: Detector | None = None, events_path: Any = None,
-                   audio_dir: Any = None, **services: Any) -> Household:
-    """A :class:`Household` around an :class:`app.sim.simulation.Simulation`: the scenario's
+def make_context(sim: Any, config: BehaviourConfig | None = None,
+                 detector: Detector | None = None, events_path: Any = None,
+                 audio_dir: Any = None, **services: Any) -> Context:
+    """A :class:`Context` around an :class:`app.sim.simulation.Simulation`: the scenario's
     personality, a clock that follows the simulation, an event log (in memory unless
     ``events_path``) and a speaker (WAVs into ``audio_dir`` when given). ``services``
-    fills ``dialogue`` / ``questions``. The py_trees blackboard is cleared: build the
-    household before its behaviours."""
-    import py_trees
+    fills ``dialogue`` / ``questions``. Only cheap objects are made here: the models are
+    the caller's (``detector``, ``services``). The py_trees blackboard is cleared: make the
+    context before the tree."""
 
-    from app.mind.personality import load_personality
-    from behaviours.config import load_behaviour_config
 
     py_trees.blackboard.Blackboard.clear()
     scenario = sim.scenario
     clock = SimClock(sim.dt, sim.t)
     events = EventLog(events_path, clock)
-    return Household(robot=sim.robot, world=sim.world,
-                     homeostasis=Homeostasis(load_personality(scenario.personality)),
-                     config=config or load_behaviour_config(), clock=clock, events=events,
-                     speaker=Speaker(events, audio_dir), detector=detector,
-                     camera_rate=scenario.camera_rate, **services)
+    return Context(robot=sim.robot, world=sim.world,
+                   homeostasis=Homeostasis(load_personality(scenario.personality)),
+                   config=config or load_behaviour_config(), clock=clock, events=events,
+                   speaker=Speaker(events, audio_dir), detector=detector,
+                   camera_rate=scenario.camera_rate, **services)

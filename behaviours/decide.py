@@ -10,8 +10,8 @@ import numpy as np
 from py_trees.common import Status
 
 from app.mind.personality import DRIVES
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour
 
 ENERGY = DRIVES.index("energy")
 
@@ -24,15 +24,13 @@ class Policy(Protocol):
         ...
 
 
-class Decide(HouseholdBehaviour):
+class Decide(ContextBehaviour):
     """Set ``action`` on the blackboard when a new one is due."""
 
-    def __init__(self, house: Household, policy: Policy, name: str = "Decide") -> None:
-        super().__init__(name, house, reads=("motivations", "drives"),
+    def __init__(self, ctx: Context, policy: Policy, name: str = "Decide") -> None:
+        super().__init__(name, ctx, reads=("motivations", "drives"),
                          writes=("action", "progress", "act_status"))
         self.policy = policy
-        self.bb.action = None
-        self.bb.act_status = None
 
     def _start(self, action: str, reason: str) -> None:
         self.bb.action, self.bb.progress, self.bb.act_status = action, 0, None
@@ -41,7 +39,7 @@ class Decide(HouseholdBehaviour):
 
     def update(self) -> Status:
         action, status = self.bb.action, self.bb.act_status
-        critical = self.bb.drives[ENERGY] >= self.house.config.preempt_energy
+        critical = self.bb.drives[ENERGY] >= self.ctx.config.preempt_energy
         if critical and action != "charge":
             if action is not None and status == Status.RUNNING:
                 self.emit("preempted", action=action, energy=self.bb.drives[ENERGY])

@@ -7,37 +7,34 @@ import py_trees
 from py_trees.common import Status
 
 from app.sim.simulation import Simulation
-from behaviours.context import Household
+from behaviours.blackboard import seed
+from behaviours.context import Context
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.sense import Sense
+from behaviours.ticking import SimulationTree
 
 
-def skill_root(house: Household, skill: py_trees.behaviour.Behaviour,
-               initial_drives: dict[str, float]) -> py_trees.composites.Sequence:
-    """``Sequence[Sense, Homeostasis, skill]`` (no decision: the action is fixed)."""
-    return py_trees.composites.Sequence(
-        "skill", memory=False,
-        children=[Sense(house), HomeostasisTick(house, initial_drives), skill])
+def skill_tree(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviour,
+               action: str) -> SimulationTree:
+    """``Sequence[Sense, Homeostasis, skill]`` ticked on ``sim``, with no decision: the
+    blackboard is seeded from the scenario's initial drives and ``action`` runs."""
+    seed(ctx, sim.scenario.robot.initial_drives(), action=action)
+    return SimulationTree(py_trees.composites.Sequence(
+        "skill", memory=False, children=[Sense(ctx), HomeostasisTick(ctx), skill]), sim, ctx)
 
 
-def run_skill(sim: Simulation, house: Household, skill: py_trees.behaviour.Behaviour,
+def run_skill(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviour,
               action: str, max_seconds: float) -> tuple[Status, float]:
     """Tick ``skill`` as the running ``action`` until it succeeds or fails or ``max_seconds``
     of simulated time pass; returns its last status and the simulated seconds used."""
-    root = skill_root(house, skill, sim.scenario.robot.initial_drives())
-    bb = py_trees.blackboard.Client(name="harness")
-    for key in ("action", "relieving", "tracking"):
-        bb.register_key(key, access=py_trees.common.Access.WRITE)
-    bb.action, bb.relieving, bb.tracking = action, False, 0.0
+    tree = skill_tree(sim, ctx, skill, action)
     start = sim.t
-    root.setup_with_descendants()
+    tree.setup()
     while sim.t - start < max_seconds:
-        house.inbox.extend(sim.step())
-        house.clock.t = sim.t
-        root.tick_once()
+        tree.tick()
         if skill.status in (Status.SUCCESS, Status.FAILURE):
             break
     status = skill.status
     if status == Status.RUNNING:
-        root.stop(Status.INVALID)
+        tree.stop()
     return status, sim.t - start

@@ -5,54 +5,57 @@ then compute the motivations (eq. 3.4) and the mood (eq. 3.6). The same
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Any
+
 from py_trees.common import Status
 
 from app.mind.personality import ACTIONS, DRIVES, STAND_BY
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour
+from behaviours.blackboard import motivations_and_mood
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour
 
 
-class HomeostasisTick(HouseholdBehaviour):
-    """Drives, motivations and mood on the blackboard; one history row per step."""
+class HomeostasisTick(ContextBehaviour):
+    """Drives, motivations and mood on the blackboard; one history row per step. The
+    blackboard's seed (:func:`behaviours.blackboard.seed`) holds the initial drives with
+    their motivations and mood, so they are there before the first tick."""
 
-    def __init__(self, house: Household, initial_drives: dict[str, float],
-                 name: str = "Homeostasis") -> None:
-        super().__init__(name, house, reads=("stimuli", "emotion", "action", "relieving"),
+    def __init__(self, ctx: Context, name: str = "Homeostasis") -> None:
+        super().__init__(name, ctx, reads=("stimuli", "emotion", "action", "relieving"),
                          writes=("drives", "motivations", "mood", "progress"))
-        self.bb.drives = np.array([initial_drives[d] for d in DRIVES], dtype=np.float64)
-        self.bb.progress = 0
         self._next = 0.0
-        self._publish()
+
+    def setup(self, **kwargs: Any) -> None:
+        """The robot's battery follows the initial energy drive (one quantity)."""
+        self._battery()
+
+    def _battery(self) -> None:
+        self.ctx.robot.set_battery(float(1.0 - self.bb.drives[DRIVES.index("energy")]))
 
     def _publish(self) -> None:
-        h, bb = self.house.homeostasis, self.bb
-        stimuli = bb.get("stimuli") if bb.exists("stimuli") else np.zeros(3)
-        emotion = bb.get("emotion") if bb.exists("emotion") else 0.0
-        bb.motivations = h.motivations(bb.drives, stimuli)
-        value = float(h.mood_value(bb.drives, stimuli[2], emotion))
-        bb.mood = {"value": value, "positive": bool(h.mood_positive(value))}
-        self.house.robot.set_battery(float(1.0 - bb.drives[DRIVES.index("energy")]))
+        bb = self.bb
+        values = motivations_and_mood(self.ctx.homeostasis, bb.drives, bb.stimuli, bb.emotion)
+        bb.motivations, bb.mood = values["motivations"], values["mood"]
+        self._battery()
 
     def update(self) -> Status:
-        step = self.house.config.homeostasis_step_s
+        step = self.ctx.config.homeostasis_step_s
         while self.now + 1e-9 >= self._next + step:
             self._next += step
             self._step()
         return Status.SUCCESS
 
     def _step(self) -> None:
-        h, bb = self.house.homeostasis, self.bb
-        action = bb.get("action") if bb.exists("action") else None
-        relieving = bool(bb.get("relieving")) if bb.exists("relieving") else False
+        h, bb = self.ctx.homeostasis, self.bb
+        action, relieving = bb.action, bool(bb.relieving)
         a = STAND_BY if action is None else ACTIONS.index(action)
         bb.drives = h.step(bb.drives, a, relieve=relieving and action is not None)
         if relieving:
             bb.progress = bb.progress + 1
         self._publish()
-        self.house.history.append({
+        self.ctx.history.append({
             "t": round(self._next, 3), "action": action or "stand_by", "relieving": relieving,
             "drives": bb.drives.copy(), "motivations": bb.motivations.copy(),
-            "stimuli": bb.stimuli.copy() if bb.exists("stimuli") else np.zeros(3),
+            "stimuli": bb.stimuli.copy(),
             "mood": bb.mood["value"], "mood_positive": bb.mood["positive"],
             "secure": bool(h.secure(bb.drives))})

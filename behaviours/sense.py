@@ -13,37 +13,39 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from py_trees.common import Status
 
 from app.sim.world import EmotionEvent, EncourageEvent, SayEvent
-from behaviours.context import Household
+from behaviours.context import Context
 from behaviours.person_range import PersonRange
-from behaviours.skill import HouseholdBehaviour, people_in_view
+from behaviours.skill import ContextBehaviour, people_in_view
 from perception.detector.yolo import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
 
 
-class Sense(HouseholdBehaviour):
-    """Stimuli, heard lines, emotion and camera detections from the household."""
+class Sense(ContextBehaviour):
+    """Stimuli, heard lines, emotion and camera detections from the simulation's social
+    events (the context's inbox), the head camera and the motor temperature."""
 
-    def __init__(self, house: Household, name: str = "Sense") -> None:
-        super().__init__(name, house, reads=("tracking",),
+    def __init__(self, ctx: Context, name: str = "Sense") -> None:
+        super().__init__(name, ctx, reads=("tracking",),
                          writes=("stimuli", "emotion", "frame", "depth", "frame_t",
                                  "detections", "heard"))
-        self.bb.stimuli = np.zeros(3)
-        self.bb.emotion = 0.0
-        self.bb.frame, self.bb.depth, self.bb.frame_t, self.bb.detections = None, None, -np.inf, []
-        self.bb.heard = []
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
-        self.range = PersonRange(house.robot, house.config.perception)
+        self.range: PersonRange | None = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
 
     def _social(self) -> None:
-        cfg = self.house.config
-        for ev in self.house.inbox:
+        cfg = self.ctx.config
+        for ev in self.ctx.inbox:
             if isinstance(ev, SayEvent):
                 to_robot = ev.to in ("robot", "everyone")
                 if to_robot:
@@ -57,35 +59,35 @@ class Sense(HouseholdBehaviour):
                 self.bb.emotion = EMOTION_VALUE[ev.emotion]
                 self._emotion_until = self.now + cfg.emotion_hold_s
                 self.emit("emotion", person=ev.person, emotion=ev.emotion)
-        self.house.inbox.clear()
+        self.ctx.inbox.clear()
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
 
     def _camera(self) -> None:
-        house, cfg = self.house, self.house.config.perception
-        asked = float(self.bb.get("tracking") or 0.0) if self.bb.exists("tracking") else 0.0
-        period = 1.0 / (asked if asked > 0 else house.camera_rate)
+        ctx, cfg = self.ctx, self.ctx.config.perception
+        asked = float(self.bb.tracking)
+        period = 1.0 / (asked if asked > 0 else ctx.camera_rate)
         if self.now - self.bb.frame_t < period - 1e-6:
             return
-        frame, depth = house.robot.camera_frame_with_depth()
-        house.frames_taken += 1
-        detections = house.detector.detect(frame) if house.detector is not None else []
+        frame, depth = ctx.robot.camera_frame_with_depth()
+        ctx.frames_taken += 1
+        detections = ctx.detector.detect(frame) if ctx.detector is not None else []
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
-        if any(self._in_front(d) for d in people_in_view(house, detections)):
+        if any(self._in_front(d) for d in people_in_view(ctx, detections)):
             self._present_until = self.now + cfg.present_hold_s
 
     def _in_front(self, box: Detection) -> bool:
         """Whether the person in ``box`` is a plausible one within the present distance."""
         depth = self.bb.depth
         reach = self.range.distance(depth, box)
-        return (reach is not None and reach <= self.house.config.perception.present_max_distance_m
+        return (reach is not None and reach <= self.ctx.config.perception.present_max_distance_m
                 and self.range.plausible(depth, box, reach))
 
     def update(self) -> Status:
         self._social()
         self._camera()
-        self.bb.stimuli = np.array([float(self.house.robot.overheated),
+        self.bb.stimuli = np.array([float(self.ctx.robot.overheated),
                                     float(self.now <= self._present_until),
                                     float(self.now <= self._encouraged_until)])
         return Status.SUCCESS

@@ -1,24 +1,33 @@
-"""Building blocks of the skills: a behaviour base class with access to the household and
-the shared blackboard keys, and the leaves every skill reuses (say, relieve a drive)."""
+"""Building blocks of the skills: a behaviour base class with access to the tree's
+:class:`~behaviours.context.Context` and the shared blackboard keys, and the leaves every
+skill reuses (say, relieve a drive).
+
+Like every behaviour here, their ``__init__`` only stores arguments and declares blackboard
+keys, so that a tree can be built (and drawn) cheaply; one-time work that needs the
+simulation or a file goes in ``setup()``, which the tree calls once before the first tick
+(:class:`behaviours.ticking.SimulationTree`)."""
 
 from __future__ import annotations
+
+from typing import Any
 
 import py_trees
 from py_trees.common import Access, Status
 
 from app.mind.personality import ACTIONS
-from behaviours.context import KEYS, Household
+from behaviours.blackboard import KEYS
+from behaviours.context import Context
 from perception.detector.yolo import Detection
 
 
-class HouseholdBehaviour(py_trees.behaviour.Behaviour):
-    """A behaviour that sees the household and may read or write the blackboard keys it
-    names (``reads``/``writes``; writing implies reading)."""
+class ContextBehaviour(py_trees.behaviour.Behaviour):
+    """A behaviour that sees the context and may read or write the blackboard keys it names
+    (``reads``/``writes``; writing implies reading)."""
 
-    def __init__(self, name: str, house: Household, reads: tuple[str, ...] = (),
+    def __init__(self, name: str, ctx: Context, reads: tuple[str, ...] = (),
                  writes: tuple[str, ...] = ()) -> None:
         super().__init__(name)
-        self.house = house
+        self.ctx = ctx
         self.bb = self.attach_blackboard_client(name=name)
         for key in reads:
             assert key in KEYS, key
@@ -30,36 +39,40 @@ class HouseholdBehaviour(py_trees.behaviour.Behaviour):
     @property
     def now(self) -> float:
         """Simulated time (s)."""
-        return self.house.now
+        return self.ctx.now
 
     def emit(self, kind: str, **fields: object) -> None:
         """Log an event tagged with this behaviour's name."""
-        self.house.events.emit(kind, behaviour=self.name, **fields)
+        self.ctx.events.emit(kind, behaviour=self.name, **fields)
 
 
-class Say(HouseholdBehaviour):
+class Say(ContextBehaviour):
     """Speak a sentence; RUNNING for as long as saying it takes."""
 
-    def __init__(self, name: str, house: Household, text: str) -> None:
-        super().__init__(name, house)
+    def __init__(self, name: str, ctx: Context, text: str) -> None:
+        super().__init__(name, ctx)
         self.text = text
         self._until = 0.0
 
     def initialise(self) -> None:
-        self._until = self.now + self.house.speaker.say(self.text, behaviour=self.name)
+        self._until = self.now + self.ctx.speaker.say(self.text, behaviour=self.name)
 
     def update(self) -> Status:
         return Status.SUCCESS if self.now >= self._until else Status.RUNNING
 
 
-class Relieve(HouseholdBehaviour):
+class Relieve(ContextBehaviour):
     """Satisfy the action's drive: RUNNING until the homeostasis tick has counted the
     action's duration (Table 4.2) in relieving steps. Put it in parallel with the activity
     that satisfies the drive (dancing, charging, ...)."""
 
-    def __init__(self, name: str, house: Household, action: str) -> None:
-        super().__init__(name, house, reads=("progress",), writes=("relieving",))
-        self.steps = int(house.homeostasis.duration[ACTIONS.index(action)])
+    def __init__(self, name: str, ctx: Context, action: str) -> None:
+        super().__init__(name, ctx, reads=("progress",), writes=("relieving",))
+        self.action = action
+        self.steps: int | None = None    # the action's Table 4.2 duration, set in setup()
+
+    def setup(self, **kwargs: Any) -> None:
+        self.steps = int(self.ctx.homeostasis.duration[ACTIONS.index(self.action)])
 
     def initialise(self) -> None:
         self.bb.relieving = True
@@ -71,8 +84,8 @@ class Relieve(HouseholdBehaviour):
         self.bb.relieving = False
 
 
-def people_in_view(house: Household, detections: list[Detection]) -> list[Detection]:
+def people_in_view(ctx: Context, detections: list[Detection]) -> list[Detection]:
     """Person boxes confident enough for the skills, tallest (nearest) first."""
     keep = [d for d in detections
-            if d.cls == "person" and d.conf >= house.config.perception.min_conf]
+            if d.cls == "person" and d.conf >= ctx.config.perception.min_conf]
     return sorted(keep, key=lambda d: -d.height)

@@ -14,6 +14,9 @@
 
 The guards are py_trees ``EternalGuard`` decorators: when Decide switches the action the
 running skill's guard fails and the skill is stopped (its ``terminate`` cleans up).
+
+Building the tree is cheap and loads nothing (it can be drawn from a bare context);
+``setup()`` (:meth:`behaviours.ticking.SimulationTree.setup`) does the one-time work.
 """
 
 from __future__ import annotations
@@ -24,12 +27,13 @@ from collections.abc import Callable
 import py_trees
 
 from app.mind.personality import ACTIONS
-from behaviours.context import Household
+from behaviours.blackboard import seed
+from behaviours.context import Context
 from behaviours.decide import Decide, Policy
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.sense import Sense
 
-SkillBuilder = Callable[[Household], py_trees.behaviour.Behaviour]
+SkillBuilder = Callable[[Context], py_trees.behaviour.Behaviour]
 
 
 def skill_builders() -> dict[str, SkillBuilder]:
@@ -43,19 +47,20 @@ def _guard(action: str, subtree: py_trees.behaviour.Behaviour) -> py_trees.behav
         condition=lambda blackboard: blackboard.action == action)
 
 
-def build_tree(house: Household, policy: Policy, initial_drives: dict[str, float],
+def build_tree(ctx: Context, policy: Policy, initial_drives: dict[str, float],
                builders: dict[str, SkillBuilder] | None = None
                ) -> py_trees.composites.Sequence:
-    """The full tree for one household run (call after :func:`make_household`)."""
+    """The full tree for one run (call after :func:`behaviours.context.make_context`); the
+    blackboard is seeded (:func:`behaviours.blackboard.seed`) with ``initial_drives``."""
+    seed(ctx, initial_drives)
     builders = builders or skill_builders()
     actions = py_trees.composites.Selector(
-        "Actions", memory=False, children=[_guard(a, builders[a](house)) for a in ACTIONS])
+        "Actions", memory=False, children=[_guard(a, builders[a](ctx)) for a in ACTIONS])
     act = py_trees.decorators.StatusToBlackboard("Act", child=actions,
                                                  variable_name="act_status")
     return py_trees.composites.Sequence(
         "Companion", memory=False,
-        children=[Sense(house), HomeostasisTick(house, initial_drives), Decide(house, policy),
-                  act])
+        children=[Sense(ctx), HomeostasisTick(ctx), Decide(ctx, policy), act])
 
 
 def render(root: py_trees.behaviour.Behaviour, show_status: bool = False) -> str:

@@ -27,8 +27,9 @@ from app.sim.robot import wrap_angle
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.simulation import Simulation
 from behaviours.config import BehaviourConfig, load_behaviour_config
-from behaviours.context import make_household
+from behaviours.context import make_context
 from behaviours.skills.charge import approach
+from behaviours.ticking import SimulationTree
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 
@@ -37,7 +38,7 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
           ) -> dict[str, Any]:
     """One docking attempt from a random free pose; its outcome and timings."""
     with Simulation(scenario) as sim:
-        house = make_household(sim, config=config)
+        ctx = make_context(sim, config=config)
         cfg = config.charge
         grid = Navigator(sim.world, cfg.grid_resolution, cfg.robot_radius).grid()
         free = np.argwhere(~grid.blocked)
@@ -46,22 +47,21 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
         start = (cx + rng.uniform(-half, half), cy + rng.uniform(-half, half),
                  rng.uniform(-math.pi, math.pi))
         sim.robot.set_pose(*start)
-        root = approach(house)
-        root.setup_with_descendants()
+        tree = SimulationTree(approach(ctx), sim, ctx)
+        tree.setup()
         wall = time.perf_counter()
-        while root.status in (Status.INVALID, Status.RUNNING):
-            house.inbox.extend(sim.step())
-            house.clock.t = sim.t
-            root.tick_once()
+        while tree.root.status in (Status.INVALID, Status.RUNNING):
+            tree.tick()
         wall = time.perf_counter() - wall
         x, y, yaw = sim.robot.pose()
         dock = sim.world.dock_pose()
-        docked = house.events.of_kind("docked")
-        return {"start": [round(v, 3) for v in start], "success": root.status == Status.SUCCESS,
+        docked = ctx.events.of_kind("docked")
+        return {"start": [round(v, 3) for v in start],
+                "success": tree.root.status == Status.SUCCESS,
                 "time_s": docked[0]["t"] if docked else None,
                 "position_error": round(math.hypot(x - dock.x, y - dock.y), 4),
                 "yaw_error_deg": round(abs(math.degrees(wrap_angle(yaw - dock.yaw))), 3),
-                "replans": len(house.events.of_kind("replan")), "wall_s": round(wall, 3)}
+                "replans": len(ctx.events.of_kind("replan")), "wall_s": round(wall, 3)}
 
 
 def summary(name: str, trials: list[dict[str, Any]]) -> dict[str, Any]:

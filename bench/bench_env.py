@@ -15,9 +15,9 @@ import numpy as np
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import load_personality
 from app.mind.policy.agent import DQNPolicy
-from app.mind.policy.baselines import HomeostaticRule
 from app.mind.policy.config import load_policy_config
-from app.mind.policy.env import VecHomeostasisEnv
+from app.mind.policy.training.baselines import HomeostaticRule
+from app.mind.policy.training.env import VecHomeostasisEnv
 
 
 def measure(policy, envs: int, seconds: float) -> dict:

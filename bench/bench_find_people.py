@@ -35,17 +35,16 @@ import time
 from pathlib import Path
 
 import numpy as np
-import py_trees
 import pybullet as p
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
 from app.sim.scenario import Placement, Scenario, Start, load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import speech_seconds
 from app.sim.world import Footprint, World
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_household
-from behaviours.harness import skill_root
+from behaviours.context import make_context
+from behaviours.harness import skill_tree
 from behaviours.skills import find_people
 from perception.detector.yolo import Detector, YoloDetector
 
@@ -137,26 +136,20 @@ def run_trial(scenario: Scenario, detector: Detector) -> dict:
     config = load_behaviour_config()
     limit = BUDGET_S + speech_seconds(config.find_people.greet) + 1.0
     with Simulation(scenario) as sim:
-        house = make_household(sim, config, detector)
-        skill = find_people.build(house)
-        root = skill_root(house, skill, scenario.robot.initial_drives())
-        bb = py_trees.blackboard.Client(name="bench")
-        for key in ("action", "relieving", "tracking"):
-            bb.register_key(key, access=Access.WRITE)
-        bb.action, bb.relieving, bb.tracking = "find_people", False, False
-        root.setup_with_descendants()
+        ctx = make_context(sim, config, detector)
+        skill = find_people.build(ctx)
+        tree = skill_tree(sim, ctx, skill, "find_people")
+        tree.setup()
         greeted = math.inf
         while sim.t < limit and sim.t < greeted and skill.status != Status.FAILURE:
-            house.inbox.extend(sim.step())
-            house.clock.t = sim.t
-            root.tick_once()
-            said = [e for e in house.events.of_kind("say") if e["behaviour"] == "Greet"]
+            tree.tick()
+            said = [e for e in ctx.events.of_kind("say") if e["behaviour"] == "Greet"]
             if said:
                 greeted = said[0]["t"] + said[0]["duration"]
-        found = house.events.of_kind("person_found")
+        found = ctx.events.of_kind("person_found")
         rx, ry, ryaw = sim.robot.pose()
         person = sim.world.people_positions()[PERSON]
-        root.stop(Status.INVALID)
+        tree.stop()
     dist = math.hypot(person.x - rx, person.y - ry)
     bearing = math.remainder(math.atan2(person.y - ry, person.x - rx) - ryaw, math.tau)
     ok = bool(found) and found[0]["t"] <= BUDGET_S
@@ -164,7 +157,7 @@ def run_trial(scenario: Scenario, detector: Detector) -> dict:
             "bearing_error_deg": round(abs(math.degrees(bearing)), 3),
             "distance_m": round(dist, 3),
             "distance_error_m": round(abs(dist - TARGET_DISTANCE_M), 3),
-            "no_face_events": len(house.events.of_kind("no_face"))}
+            "no_face_events": len(ctx.events.of_kind("no_face"))}
 
 
 def summarise(rows: list[dict]) -> dict:

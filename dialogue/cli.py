@@ -1,4 +1,7 @@
-"""Command line of the dialogue domain: ``companion chat`` and ``companion eval dialogue``."""
+"""Command line of the dialogue domain: ``companion chat`` and ``companion eval dialogue``.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 
@@ -8,13 +11,11 @@ import statistics
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TextIO
 
 from app.core.paths import WORLDS_DIR
 from dialogue.intent import HELDOUT_FILE, MODES
-from dialogue.qa.base import DialogueError
 
 DEFAULT_SCENARIO = WORLDS_DIR / "living_room.yaml"
 ROUTING_BAR = 0.95
@@ -58,85 +59,6 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_eval)
 
 
-def robot_mood(drives: Mapping[str, float] | None = None,
-               personality: Path | None = None) -> tuple[str, float, float]:
-    """``(mood, v_mood, threshold)`` from eq. 3.6 with no encouragement and no emotion.
-
-    ``drives`` defaults to all zero, the scenario default for ``robot.drives``.
-    """
-    import numpy as np
-
-    from app.mind.homeostasis import Homeostasis
-    from app.mind.personality import DRIVES, load_personality
-
-    h = Homeostasis(load_personality(personality))
-    d = np.array([float((drives or {}).get(k, 0.0)) for k in DRIVES])
-    v = float(h.mood_value(d, 0.0, 0.0))
-    positive = bool(h.mood_positive(v))
-    return ("positive" if positive else "negative"), v, h.personality.mood.threshold
-
-
-def build_manager(args: argparse.Namespace) -> tuple[Any, dict[str, float] | None, Any]:
-    """The manager for ``chat`` and the scenario's drives and personality (or Nones)."""
-    from app.sim.camera import scenario_camera
-    from app.sim.scenario import load_scenario
-    from dialogue.manager import DialogueManager
-    from dialogue.qa.bot import QABot, load_weather
-    from dialogue.qa.home_map import plan_from_scenario
-    from dialogue.qa.news import SAMPLE_FEED
-
-    drives, personality, household, scenario_weather = None, None, None, None
-    scenario_path = args.scenario or DEFAULT_SCENARIO
-    if args.scenario is not None:
-        scenario = load_scenario(args.scenario)
-        scenario_weather = scenario.weather
-        drives, personality = scenario.robot.drives.model_dump(), scenario.personality
-        household = plan_from_scenario(scenario)
-    elif DEFAULT_SCENARIO.is_file():
-        household = plan_from_scenario(load_scenario(DEFAULT_SCENARIO))
-    if args.feed is not None and not args.feed.is_file():
-        raise DialogueError(f"{args.feed}: news feed not found")
-    out = args.out or Path(tempfile.mkdtemp(prefix="companion-chat-"))
-    if args.weather:
-        weather = load_weather(args.weather)
-    elif scenario_weather is not None:
-        weather = load_weather(scenario_weather.model_dump(exclude_none=True))
-    else:
-        weather = load_weather()
-    qa = QABot(weather=weather,
-               feed=args.feed or SAMPLE_FEED, household=household, out_dir=out,
-               take_photo=scenario_camera(scenario_path, out))
-    manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
-                              on_reply=reply_logger(Path(out) / "dialogue.jsonl"))
-    return manager, drives, personality
-
-
-def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
-    """Append each reply (with its route, action and tablet) to a JSON-lines file, flushed."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-
-    def log(record: dict[str, Any]) -> None:
-        with path.open("a", encoding="utf-8") as fh:
-            fh.write(json.dumps(record, default=str) + "\n")
-
-    return log
-
-
-def shipped_chitchat() -> Any:
-    """The shipped chit-chat model, or None while none has been trained."""
-    from dialogue.chat.config import DEFAULT_CHAT_MODEL
-    from dialogue.chat.model import ChitChatModel
-
-    return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
-
-
-def shipped_style() -> Any:
-    """The shipped mood style-transfer model, or None while none has been trained."""
-    from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
-
-    return StyleTransfer.load(DEFAULT_STYLE_MODEL) if DEFAULT_STYLE_MODEL.is_file() else None
-
-
 def _print_reply(reply: Any, out: TextIO) -> None:
     print(f"robot [{reply.route}]: {reply.text}", file=out)
     if reply.action is not None:
@@ -171,7 +93,10 @@ def run_chat(args: argparse.Namespace, stdin: TextIO | None = None,
              stdout: TextIO | None = None) -> int:
     """The ``chat`` REPL (or, with ``--json``, one JSON reply per stdin line)."""
     stdin, out = stdin or sys.stdin, stdout or sys.stdout
-    manager, drives, personality = build_manager(args)
+    from dialogue.factory import chat_session, robot_mood
+
+    manager, drives, personality = chat_session(args.scenario, DEFAULT_SCENARIO, args.weather,
+                                                args.feed, args.out)
     manager.context.mode = args.mode
     computed, value, threshold = robot_mood(drives, personality)
     state = {"computed": computed, "mood": args.mood or computed}
@@ -212,13 +137,12 @@ def _readline(stdin: TextIO, out: TextIO) -> str:
 
 def run_eval(args: argparse.Namespace) -> int:
     """``companion eval dialogue``: routing accuracy on the held-out set and reply latency."""
-    from dialogue.intent import evaluate_routing
+    from dialogue.factory import shipped_chitchat
+    from dialogue.intent import evaluate_routing, load_utterances
     from dialogue.manager import DialogueContext, DialogueManager
     from dialogue.qa.bot import QABot
 
     result = evaluate_routing(path=args.heldout)
-    from dialogue.intent import load_utterances
-
     with tempfile.TemporaryDirectory(prefix="companion-eval-") as tmp:
         manager = DialogueManager(QABot.offline(out_dir=tmp), chitchat=shipped_chitchat())
         times = []

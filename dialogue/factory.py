@@ -1,24 +1,61 @@
-"""The dialogue manager of a household run: the QA bot knows the scenario's household map and
-weather, tells the scenario's time (its ``time_of_day`` in the home city's time zone, moved on
-by the simulated seconds), takes photos with the robot's camera, and chit-chat replies come
-from the shipped seq2seq model, restyled by the shipped mood style-transfer model."""
+"""Where the robot's dialogue is put together: the manager of a household run, the manager of
+an interactive ``companion chat`` session, the shipped chit-chat and mood style-transfer
+models, the reply log and the robot's mood for a chat session.
+
+In a household run the QA bot knows the scenario's household map and weather, tells the
+scenario's time (its ``time_of_day`` in the home city's time zone, moved on by the simulated
+seconds) and takes photos with the robot's camera; chit-chat replies come from the shipped
+seq2seq model, restyled by the shipped mood style-transfer model.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import json
+import tempfile
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-from dialogue.cli import reply_logger, shipped_chitchat, shipped_style
+import numpy as np
+
+from app.mind.homeostasis import Homeostasis
+from app.mind.personality import DRIVES, load_personality
+from app.sim.camera import scenario_camera
+from app.sim.scenario import Scenario, load_scenario
+from dialogue.chat.config import DEFAULT_CHAT_MODEL
+from dialogue.chat.model import ChitChatModel
 from dialogue.manager import DialogueManager
+from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot, load_weather
 from dialogue.qa.clock import scenario_clock
 from dialogue.qa.home_map import plan_from_scenario
 from dialogue.qa.news import SAMPLE_FEED
 from dialogue.qa.places import lookup
+from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
 
-def household_dialogue(scenario: Any, elapsed: Callable[[], float], out_dir: Path,
+def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
+    """Append each reply (with its route, action and tablet) to a JSON-lines file, flushed."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+
+    def log(record: dict[str, Any]) -> None:
+        with path.open("a", encoding="utf-8") as fh:
+            fh.write(json.dumps(record, default=str) + "\n")
+
+    return log
+
+
+def shipped_chitchat() -> ChitChatModel | None:
+    """The shipped chit-chat model, or None while none has been trained."""
+    return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
+
+
+def shipped_style() -> StyleTransfer | None:
+    """The shipped mood style-transfer model, or None while none has been trained."""
+    return StyleTransfer.load(DEFAULT_STYLE_MODEL) if DEFAULT_STYLE_MODEL.is_file() else None
+
+
+def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir: Path,
                        take_photo: Callable[[], str | Path] | None = None,
                        style: Any = "shipped") -> DialogueManager:
     """A manager for a run of ``scenario``; replies are appended to ``out_dir/dialogue.jsonl``.
@@ -32,3 +69,47 @@ def household_dialogue(scenario: Any, elapsed: Callable[[], float], out_dir: Pat
     style = shipped_style() if style == "shipped" else style
     return DialogueManager(qa, chitchat=shipped_chitchat(), style=style,
                            on_reply=reply_logger(out_dir / "dialogue.jsonl"))
+
+
+def chat_session(scenario_path: Path | None, default_scenario: Path, weather_path: Path | None,
+                 feed: Path | None, out: Path | None
+                 ) -> tuple[DialogueManager, dict[str, float] | None, Path | None]:
+    """The manager of a ``companion chat`` session, with the scenario's drives and personality
+    (Nones without ``scenario_path``). The household map and the camera come from the scenario,
+    or from ``default_scenario`` when none is given; maps, photos and the reply log go to
+    ``out`` (default: a new temporary folder)."""
+    drives, personality, household, scenario_weather = None, None, None, None
+    if scenario_path is not None:
+        scenario = load_scenario(scenario_path)
+        scenario_weather = scenario.weather
+        drives, personality = scenario.robot.drives.model_dump(), scenario.personality
+        household = plan_from_scenario(scenario)
+    elif default_scenario.is_file():
+        household = plan_from_scenario(load_scenario(default_scenario))
+    if feed is not None and not feed.is_file():
+        raise DialogueError(f"{feed}: news feed not found")
+    if weather_path:
+        weather = load_weather(weather_path)
+    elif scenario_weather is not None:
+        weather = load_weather(scenario_weather.model_dump(exclude_none=True))
+    else:
+        weather = load_weather()
+    out = out or Path(tempfile.mkdtemp(prefix="companion-chat-"))
+    qa = QABot(weather=weather, feed=feed or SAMPLE_FEED, household=household, out_dir=out,
+               take_photo=scenario_camera(scenario_path or default_scenario, out))
+    manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
+                              on_reply=reply_logger(out / "dialogue.jsonl"))
+    return manager, drives, personality
+
+
+def robot_mood(drives: Mapping[str, float] | None = None,
+               personality: Path | None = None) -> tuple[str, float, float]:
+    """``(mood, v_mood, threshold)`` from eq. 3.6 with no encouragement and no emotion.
+
+    ``drives`` defaults to all zero, the scenario default for ``robot.drives``.
+    """
+    h = Homeostasis(load_personality(personality))
+    d = np.array([float((drives or {}).get(k, 0.0)) for k in DRIVES])
+    v = float(h.mood_value(d, 0.0, 0.0))
+    positive = bool(h.mood_positive(v))
+    return ("positive" if positive else "negative"), v, h.personality.mood.threshold

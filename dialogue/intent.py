@@ -18,8 +18,11 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+import numpy as np
+
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import DialogueError
+from dialogue.qa.knowledge import KnowledgeBase
 from dialogue.qa.music import SONGS
 from dialogue.qa.places import COMMON, TIME_WORDS, known_place
 from dialogue.qa.text import STOPWORDS, ngrams, normalise
@@ -81,8 +84,6 @@ def load_utterances(path: str | Path) -> list[tuple[str, str]]:
 
 @cache
 def _topics() -> frozenset[str]:
-    from dialogue.qa.knowledge import KnowledgeBase
-
     return frozenset(KnowledgeBase.load().index)
 
 
@@ -112,6 +113,8 @@ def mask_entities(text: str) -> str:
 
 
 def _features() -> object:
+    # scikit-learn takes about a second to import: loaded with the first classifier, so
+    # that the command line (which reads this module's constants) stays fast
     from sklearn.feature_extraction.text import TfidfVectorizer
     from sklearn.pipeline import make_pipeline, make_union
     from sklearn.preprocessing import FunctionTransformer
@@ -134,7 +137,7 @@ class IntentClassifier:
 
     def __init__(self, examples: list[tuple[str, str]] | None = None,
                  cue_bonus: float = CUE_BONUS) -> None:
-        from sklearn.linear_model import LogisticRegression
+        from sklearn.linear_model import LogisticRegression  # see _features
         from threadpoolctl import threadpool_limits
 
         examples = examples if examples is not None else load_utterances(TRAIN_FILE)
@@ -157,8 +160,6 @@ class IntentClassifier:
 
     def scores(self, text: str) -> tuple[dict[str, float], tuple[str, ...]]:
         """Normalised scores per label (model probability plus cue bonus) and the cues hit."""
-        import numpy as np
-
         t = normalise(text)
         z = np.asarray(self.features.transform(_rows([text])) @ self.coef)[0] + self.intercept
         probs = np.exp(z - z.max())

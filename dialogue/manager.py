@@ -14,15 +14,13 @@ import unicodedata
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal, Protocol, runtime_checkable
+from typing import Any, Literal, Protocol, runtime_checkable
 
 from dialogue.intent import CHITCHAT, MODES, IntentClassifier
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Action, Answer, DialogueError
+from dialogue.qa.bot import QABot
 from dialogue.qa.text import content_words, normalise
-
-if TYPE_CHECKING:
-    from dialogue.qa.bot import QABot
 
 log = logging.getLogger("companion.dialogue")
 
@@ -102,8 +100,6 @@ class DialogueManager:
                  chitchat: ChitChat | None = None, style: StyleTransfer | None = None,
                  on_reply: Callable[[dict[str, Any]], None] | None = None,
                  max_chars: int = MAX_CHARS) -> None:
-        from dialogue.qa.bot import QABot
-
         self.qa = qa if qa is not None else QABot.offline()
         self.classifier = classifier or IntentClassifier.default()
         self.chitchat = chitchat

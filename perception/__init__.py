@@ -1,1 +1,1 @@
-"""Rendering helpers, the person/face detector and visual question generation."""
+"""What the robot perceives: the person-and-face detector and visual question generation."""

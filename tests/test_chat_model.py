@@ -14,22 +14,17 @@ import torch
 
 from app.core.config_files import ConfigError
 from app.core.errors import UserError
+from dialogue.chat.batch import batches, make_batch
 from dialogue.chat.config import ChatConfig, load_chat_config
 from dialogue.chat.decode import banned_ngram_tokens
-from dialogue.chat.model import ChatModelError, ChitChatModel, Seq2Seq
+from dialogue.chat.model import ChatModelError, ChitChatModel
+from dialogue.chat.seq2seq import Seq2Seq
+from dialogue.chat.text import detokenize, tokenize
 from dialogue.chat.training.cli import METRIC_KEYS, chat_metrics, run_train
-from dialogue.chat.training.data import (
-    UNK,
-    Vocab,
-    batches,
-    detokenize,
-    load_chat_data,
-    make_batch,
-    read_chatterbot,
-    tokenize,
-)
+from dialogue.chat.training.data import load_chat_data, read_chatterbot
 from dialogue.chat.training.evaluate import distinct_n, perplexity, unigram_perplexity
 from dialogue.chat.training.train import train
+from textnets.vocab import UNK, Vocab
 
 THINGS = ["music", "dogs", "cats", "pizza", "rain", "books", "football", "movies", "trains",
           "flowers", "robots", "coffee", "tea", "snow", "games", "dancing"]

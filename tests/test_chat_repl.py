@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 from app.cli import build_parser, main
-from dialogue.cli import robot_mood, run_chat
+from dialogue.cli import run_chat
+from dialogue.factory import robot_mood
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -11,15 +11,10 @@ import pytest
 
 from app.cli import main
 from app.sim.people import Appearance
-from perception.detector.config import load_detector_config
+from perception.detector.config import DEFAULT_DETECTOR, DEFAULT_TRAINED, load_detector_config
 from perception.detector.training.data import DetectorScene, PersonSpec, SceneSpec
 from perception.detector.training.train import onnx_input_shape
-from perception.detector.yolo import (
-    DEFAULT_DETECTOR,
-    DEFAULT_TRAINED,
-    DetectorFileError,
-    YoloDetector,
-)
+from perception.detector.yolo import DetectorFileError, YoloDetector
 
 CFG = load_detector_config()
 

@@ -9,8 +9,9 @@ from py_trees.common import Status
 
 from app.sim.scenario import Placement, Start, load_scenario
 from app.sim.simulation import Simulation
+from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_household
+from behaviours.context import make_context
 from behaviours.harness import run_skill
 from behaviours.sense import Sense
 from behaviours.skill import people_in_view
@@ -50,24 +51,24 @@ def living_room(robot: Placement, person: Start | None, personality: Path | None
 
 
 def find(scenario, detector, config=None, max_seconds=45.0):
-    """Run the skill; the status, the event log, the robot's final pose and the household.
+    """Run the skill; the status, the event log, the robot's final pose and the context.
     The skill must have handed the camera back to its scenario rate and stopped the base."""
     with Simulation(scenario) as sim:
-        house = make_household(sim, config, detector)
-        status, _ = run_skill(sim, house, find_people.build(house), "find_people", max_seconds)
+        ctx = make_context(sim, config, detector)
+        status, _ = run_skill(sim, ctx, find_people.build(ctx), "find_people", max_seconds)
         assert py_trees.blackboard.Blackboard.get("/tracking") == 0.0
-        assert house.robot.base_velocity == (0.0, 0.0, 0.0)
-        return status, house.events, sim.robot.pose(), house
+        assert ctx.robot.base_velocity == (0.0, 0.0, 0.0)
+        return status, ctx.events, sim.robot.pose(), ctx
 
 
 @pytest.mark.parametrize("robot_yaw", [180.0, 0.0], ids=["in_front", "behind"])
 def test_finds_greets_and_faces_the_person(detector, short_relief, robot_yaw):
     person = Start(x=1.8, y=2.2, yaw=10.0, pose="standing")
     scenario = living_room(Placement(x=4.4, y=2.6, yaw=robot_yaw), person, short_relief)
-    status, events, (x, y, yaw), house = find(scenario, detector)
+    status, events, (x, y, yaw), ctx = find(scenario, detector)
     assert status == Status.SUCCESS
     assert events.of_kind("person_found")
-    assert [e["text"] for e in events.of_kind("say")] == [house.config.find_people.greet]
+    assert [e["text"] for e in events.of_kind("say")] == [ctx.config.find_people.greet]
     bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
     assert abs(math.degrees(bearing)) < 5.0
     assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
@@ -155,10 +156,10 @@ def test_a_near_box_that_keeps_vanishing_is_ignored():
     # the robot starts facing the bookshelf, about the target distance from it
     with Simulation(living_room(Placement(x=5.08, y=2.5, yaw=0.0), None)) as sim:
         fake.robot = sim.robot
-        house = make_household(sim, config, fake)
-        status, _ = run_skill(sim, house, find_people.build(house), "find_people", 25.0)
+        ctx = make_context(sim, config, fake)
+        status, _ = run_skill(sim, ctx, find_people.build(ctx), "find_people", 25.0)
     assert status == Status.FAILURE
-    given_up = house.events.of_kind("no_face")
+    given_up = ctx.events.of_kind("no_face")
     assert [e["vanished"] for e in given_up] == [config.find_people.vanish_strikes]
     assert given_up[0]["t"] < 15.0
 
@@ -192,10 +193,12 @@ def test_human_present_counts_people_near_by_their_depth(detector, pose, distanc
     person = Start(x=0.6, y=2.0, yaw=0.0, pose=pose)
     robot = Placement(x=0.6 + distance, y=2.0, yaw=180.0)
     with Simulation(living_room(robot, person)) as sim:
-        house = make_household(sim, None, detector)
-        sense = Sense(house)
+        ctx = make_context(sim, None, detector)
+        seed(ctx, sim.scenario.robot.initial_drives())
+        sense = Sense(ctx)
+        sense.setup()
         sense.tick_once()
-        assert people_in_view(house, py_trees.blackboard.Blackboard.get("/detections"))
+        assert people_in_view(ctx, py_trees.blackboard.Blackboard.get("/detections"))
         assert py_trees.blackboard.Blackboard.get("/stimuli")[1] == float(present)
 
 

@@ -22,7 +22,7 @@ from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
 from app.sim.world import Footprint, Pose2D, World
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_household
+from behaviours.context import make_context
 from behaviours.harness import run_skill
 from behaviours.skills.charge import build, predock_pose
 
@@ -125,15 +125,15 @@ def test_path_follower_turns_on_the_spot_then_reaches_the_goal():
 
 def charge_run(name: str, max_seconds: float, charge_steps: int | None = 3,
                config=CFG, start=None):
-    """Run the charge subtree with run_skill; (status, household, simulation)."""
+    """Run the charge subtree with run_skill; (status, context, simulation)."""
     sim = Simulation(load_scenario(WORLDS / f"{name}.yaml"))
     if start is not None:
         sim.robot.set_pose(*start)
-    house = make_household(sim, config=config)
+    ctx = make_context(sim, config=config)
     if charge_steps is not None:
-        house.homeostasis.duration[ACTIONS.index("charge")] = charge_steps
-    status, _ = run_skill(sim, house, build(house), "charge", max_seconds)
-    return status, house, sim
+        ctx.homeostasis.duration[ACTIONS.index("charge")] = charge_steps
+    status, _ = run_skill(sim, ctx, build(ctx), "charge", max_seconds)
+    return status, ctx, sim
 
 
 @pytest.mark.parametrize("name, start", [
@@ -141,18 +141,18 @@ def charge_run(name: str, max_seconds: float, charge_steps: int | None = 3,
     ("living_room", (2.27, 0.80, 0.12)),    # against the TV's corner, inside its inflation
     ("low_battery_night", None)])           # from the scenario's start; dock in the bedroom
 def test_charge_docks_charges_and_unplugs(name, start):
-    status, house, sim = charge_run(name, 120.0, start=start)
+    status, ctx, sim = charge_run(name, 120.0, start=start)
     try:
         assert status == Status.SUCCESS
-        kinds = [e["kind"] for e in house.events.events
+        kinds = [e["kind"] for e in ctx.events.events
                  if e["kind"] in ("say", "docked", "charging", "unplugged")]
         assert kinds == ["say", "docked", "charging", "unplugged", "say"]
-        says = house.events.of_kind("say")
+        says = ctx.events.of_kind("say")
         assert [s["text"] for s in says] == [CFG.charge.ask, CFG.charge.done]
-        docked = house.events.of_kind("docked")[0]
+        docked = ctx.events.of_kind("docked")[0]
         assert docked["position_error"] <= CFG.charge.dock_position_tolerance
         assert docked["yaw_error_deg"] <= CFG.charge.dock_yaw_tolerance_deg
-        assert not house.events.of_kind("unplugged")[0]["interrupted"]
+        assert not ctx.events.of_kind("unplugged")[0]["interrupted"]
         assert not sim.robot.charging and sim.robot.base_velocity == (0.0, 0.0, 0.0)
         dock = sim.world.dock_pose()
         assert math.dist(sim.robot.pose()[:2], dock[:2]) <= CFG.charge.dock_position_tolerance
@@ -161,11 +161,11 @@ def test_charge_docks_charges_and_unplugs(name, start):
 
 
 def test_interrupted_while_charging_unplugs():
-    status, house, sim = charge_run("living_room", 40.0, charge_steps=None)   # 1000 steps
+    status, ctx, sim = charge_run("living_room", 40.0, charge_steps=None)   # 1000 steps
     try:
         assert status == Status.RUNNING        # still charging when run_skill stops the tree
-        assert house.events.of_kind("docked") and house.events.of_kind("charging")
-        assert house.events.of_kind("unplugged")[0]["interrupted"]
+        assert ctx.events.of_kind("docked") and ctx.events.of_kind("charging")
+        assert ctx.events.of_kind("unplugged")[0]["interrupted"]
         assert not sim.robot.charging
     finally:
         sim.close()
@@ -173,10 +173,10 @@ def test_interrupted_while_charging_unplugs():
 
 def test_gives_up_after_the_timeout_and_stops():
     config = CFG.model_copy(update={"charge": CFG.charge.model_copy(update={"timeout_s": 3.0})})
-    status, house, sim = charge_run("low_battery_night", 30.0, config=config)
+    status, ctx, sim = charge_run("low_battery_night", 30.0, config=config)
     try:
-        assert status == Status.FAILURE and house.events.of_kind("dock_failed")
-        assert not house.events.of_kind("docked")
+        assert status == Status.FAILURE and ctx.events.of_kind("dock_failed")
+        assert not ctx.events.of_kind("docked")
         assert sim.robot.base_velocity == (0.0, 0.0, 0.0) and not sim.robot.charging
     finally:
         sim.close()

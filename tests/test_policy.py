@@ -12,19 +12,19 @@ import pytest
 import torch
 
 from app.cli import main
-from app.core.checkpoint import claim_run_folder
+from app.core.checkpoint import claim_run_folder, read_checkpoint
 from app.core.config_files import ConfigError
 from app.core.errors import UserError
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import ACTIONS, STAND_BY, load_personality
-from app.mind.policy.agent import DEFAULT_POLICY, DQNPolicy, PolicyFileError
-from app.mind.policy.baselines import HomeostaticRule, RandomPolicy
-from app.mind.policy.config import load_policy_config
-from app.mind.policy.demo import collect_demonstrations, margin_loss
-from app.mind.policy.env import Decisions, VecHomeostasisEnv
-from app.mind.policy.evaluate import run_episodes, summarise
+from app.mind.policy.agent import DQNPolicy, PolicyFileError
+from app.mind.policy.config import DEFAULT_POLICY, load_policy_config
 from app.mind.policy.network import DuelingQNetwork
-from app.mind.policy.train import action_discounts, selection_score, train, training_reward
+from app.mind.policy.training.baselines import HomeostaticRule, RandomPolicy
+from app.mind.policy.training.demo import collect_demonstrations, margin_loss
+from app.mind.policy.training.env import Decisions, VecHomeostasisEnv
+from app.mind.policy.training.evaluate import run_episodes, summarise
+from app.mind.policy.training.train import action_discounts, selection_score, train, training_reward
 
 DISCOUNTS = np.full(len(ACTIONS), 0.99, dtype=np.float32)  # per decision, every action
 
@@ -141,7 +141,7 @@ def test_resuming_a_checkpoint_of_an_older_version_names_the_file(h, cfg, tmp_pa
             "checkpoint_every": 20, "eval_episodes": 2})})
     train(h.personality, tiny, tmp_path, progress=False)
     ckpt = tmp_path / "checkpoint.pt"
-    state = torch.load(ckpt, weights_only=False)
+    state = torch.load(ckpt, weights_only=True)
     del state["env"]["secure_at_choice"]  # as written before the env tracked it
     torch.save(state, ckpt)
     with pytest.raises(PolicyFileError, match=r"checkpoint\.pt: cannot resume .*secure_at_choice"):
@@ -179,7 +179,7 @@ def test_insecure_penalty_lands_on_the_terminal_transitions(h, cfg, tmp_path):
             "num_envs": 8, "total_transitions": 600, "learning_starts": 100,
             "checkpoint_every": 50, "eval_episodes": 2, "insecure_penalty": -50.0})})
     train(h.personality, tiny, tmp_path, progress=False)
-    memory = torch.load(tmp_path / "checkpoint.pt", weights_only=False)["memory"]
+    memory = read_checkpoint(tmp_path / "checkpoint.pt")["memory"]
     n = memory["size"]
     terminal, reward = memory["terminal"][:n].astype(bool), memory["reward"][:n]
     assert terminal.any() and (~terminal).any()      # random actions reach insecurity often
@@ -363,7 +363,7 @@ def test_pretraining_on_demonstrations_imitates_the_rule(h, cfg, tmp_path):
             "target_sync_updates": 200, "checkpoint_every": 5000, "eval_every": 5000,
             "demo_transitions": 6000, "demo_pretrain_updates": 3000, "demo_weight": 10.0})})
     train(h.personality, tiny, tmp_path, progress=False)
-    blob = torch.load(tmp_path / "checkpoint.pt", weights_only=False)
+    blob = torch.load(tmp_path / "checkpoint.pt", weights_only=True)
     q = DuelingQNetwork(6, 7, **tiny.network.model_dump())
     q.load_state_dict(blob["q"])
     fresh = collect_demonstrations(h, cfg.env, tiny.train.model_copy(

@@ -16,7 +16,7 @@ from app.sim.robot import Robot
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import Speaker
-from behaviours.context import Household, make_household
+from behaviours.context import Context, make_context
 from behaviours.harness import run_skill
 from behaviours.skills import rest, sing_dance, stand_by
 from behaviours.skills.dances import load_dances
@@ -48,17 +48,17 @@ def watched(skill: py_trees.behaviour.Behaviour, watch: Watch) -> py_trees.behav
     return py_trees.composites.Parallel("Watched", policy=policy, children=[skill, watch])
 
 
-def household(robot_config: Path | None = None) -> tuple[Simulation, Household]:
+def living_room_context(robot_config: Path | None = None) -> tuple[Simulation, Context]:
     sim = Simulation(load_scenario(WORLD), robot_config=robot_config)
-    house = make_household(sim)
-    house.camera_rate = 0.05   # these skills do not look; rendering dominates the run time
-    return sim, house
+    ctx = make_context(sim)
+    ctx.camera_rate = 0.05   # these skills do not look; rendering dominates the run time
+    return sim, ctx
 
 
 @pytest.fixture
-def living_room() -> Iterator[tuple[Simulation, Household]]:
-    sim, house = household()
-    yield sim, house
+def living_room() -> Iterator[tuple[Simulation, Context]]:
+    sim, ctx = living_room_context()
+    yield sim, ctx
     sim.close()
 
 
@@ -72,16 +72,16 @@ def assert_standing(robot: Robot) -> None:
 def test_rest_crouches_cools_faster_and_stands_up(tmp_path):
     hot = tmp_path / "hot_robot.yaml"
     hot.write_text("thermal: {initial_c: 55.0}\n")
-    sim, house = household(hot)
-    watch = Watch(house.robot)
-    status, used = run_skill(sim, house, watched(rest.build(house), watch), "rest", 150)
+    sim, ctx = living_room_context(hot)
+    watch = Watch(ctx.robot)
+    status, used = run_skill(sim, ctx, watched(rest.build(ctx), watch), "rest", 150)
     assert status == Status.SUCCESS
     assert 100 <= used < 120                       # Table 4.2: 100 steps of resting
     assert any(name == "Crouch" and resting and reached for name, resting, reached, _ in watch.seen)
-    assert house.events.of_kind("say")[0]["text"] == "I need to take a rest"
-    assert_standing(house.robot)
-    assert house.robot.posture_reached()
-    rested = house.robot.motor_temperature
+    assert ctx.events.of_kind("say")[0]["text"] == "I need to take a rest"
+    assert_standing(ctx.robot)
+    assert ctx.robot.posture_reached()
+    rested = ctx.robot.motor_temperature
     sim.close()
 
     standing = Simulation(load_scenario(WORLD), robot_config=hot)
@@ -92,41 +92,42 @@ def test_rest_crouches_cools_faster_and_stands_up(tmp_path):
 
 
 def test_stand_by_sways_the_head_and_recentres(living_room):
-    sim, house = living_room
-    watch = Watch(house.robot)
-    status, used = run_skill(sim, house, watched(stand_by.build(house), watch), "stand_by", 30)
+    sim, ctx = living_room
+    watch = Watch(ctx.robot)
+    status, used = run_skill(sim, ctx, watched(stand_by.build(ctx), watch), "stand_by", 30)
     assert status == Status.SUCCESS
     assert 12 <= used < 15                         # Table 4.2: 12 steps of stand-by
     yaws = [q["HeadYaw"] for *_, q in watch.seen]
     assert max(yaws) > 0.2
-    assert_standing(house.robot)
-    assert house.robot.posture_reached()
-    assert abs(house.robot.joint_positions()["HeadYaw"]) < 0.03
+    assert_standing(ctx.robot)
+    assert ctx.robot.posture_reached()
+    assert abs(ctx.robot.joint_positions()["HeadYaw"]) < 0.03
 
 
 def test_sing_dance_moves_the_arms_and_sings(living_room):
-    sim, house = living_room
-    watch = Watch(house.robot)
-    status, used = run_skill(sim, house, watched(sing_dance.build(house), watch), "sing_dance",
+    sim, ctx = living_room
+    watch = Watch(ctx.robot)
+    status, used = run_skill(sim, ctx, watched(sing_dance.build(ctx), watch), "sing_dance",
                              60)
     assert status == Status.SUCCESS
     assert 30 <= used < 35
     start = watch.seen[0][3]
     moved = max(abs(q[j] - start[j]) for *_, q in watch.seen for j in ARMS)
     assert moved > 0.3
-    book = load_dances(house.config.sing_dance.resolved_routines(), house.robot.joint_limits())
+    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joint_limits())
     routine = book.routines[0]
-    assert house.events.of_kind("dance")[0]["title"] == routine.title
-    sung = [e for e in house.events.of_kind("say") if e.get("song") == routine.title]
+    assert ctx.events.of_kind("dance")[0]["title"] == routine.title
+    sung = [e for e in ctx.events.of_kind("say") if e.get("song") == routine.title]
     assert [e["text"] for e in sung[:len(routine.lyrics)]] == [x.text for x in routine.lyrics]
-    assert_standing(house.robot)
-    assert house.robot.posture_reached()
+    assert_standing(ctx.robot)
+    assert ctx.robot.posture_reached()
 
 
 def test_dance_rotates_through_the_routines(living_room):
-    _, house = living_room
-    book = load_dances(house.config.sing_dance.resolved_routines(), house.robot.joint_limits())
-    dance = Dance(house, book.routines, speed=0.5)
+    _, ctx = living_room
+    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joint_limits())
+    dance = Dance(ctx, speed=0.5)
+    dance.setup()
     titles = []
     for _ in range(len(book.routines) + 1):
         dance.tick_once()
@@ -137,14 +138,14 @@ def test_dance_rotates_through_the_routines(living_room):
 
 @pytest.mark.parametrize("action", sorted(SKILLS))
 def test_interrupted_skill_leaves_the_robot_commanded_to_stand(living_room, action):
-    sim, house = living_room
-    skill = SKILLS[action].build(house)
-    status, _ = run_skill(sim, house, skill, action, 7.0)   # stopped with INVALID mid-run
+    sim, ctx = living_room
+    skill = SKILLS[action].build(ctx)
+    status, _ = run_skill(sim, ctx, skill, action, 7.0)   # stopped with INVALID mid-run
     assert status == Status.RUNNING and skill.status == Status.INVALID
-    assert_standing(house.robot)
+    assert_standing(ctx.robot)
     for _ in range(60):
         sim.step()
-    assert house.robot.posture_reached()
+    assert ctx.robot.posture_reached()
 
 
 @pytest.fixture(scope="module")

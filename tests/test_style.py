@@ -6,21 +6,14 @@ from style_helpers import one_thread, tiny_config, write_corpus
 
 from app.core.config_files import ConfigError
 from dialogue.style.config import load_style_config
-from dialogue.style.model import FAKE, Generator, StyleCode, StyleTransferModel, TextCNN
-from dialogue.style.training.data import (
-    BOS_ID,
-    EOS_ID,
-    PAD_ID,
-    SPECIALS,
-    UNK_ID,
-    BatchSampler,
-    Vocab,
-    detokenize,
-    load_splits,
-    make_batch,
-    tokenize,
-)
+from dialogue.style.model import FAKE, StyleCode, StyleTransferModel
+from dialogue.style.text import detokenize, tokenize
+from dialogue.style.training.data import load_splits
 from dialogue.style.training.losses import discriminator_loss, pretrain_losses, transfer_losses
+from textnets.batch import BatchSampler, make_batch
+from textnets.generator import Generator
+from textnets.textcnn import TextCNN
+from textnets.vocab import BOS_ID, EOS_ID, PAD_ID, SPECIALS, UNK_ID, Vocab
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -2,8 +2,9 @@
 
 import pytest
 
-from dialogue.style.files import CLASSIFIER_FILE, load_classifier
-from dialogue.style.training.data import tokenize
+from dialogue.style.config import CLASSIFIER_FILE
+from dialogue.style.files import load_classifier
+from dialogue.style.text import tokenize
 from dialogue.style.training.evaluate import evaluate
 from dialogue.style.training.metrics import classify
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer

@@ -16,9 +16,9 @@ from dialogue.style.config import load_style_config
 from dialogue.style.files import StyleModelError
 from dialogue.style.training import cli as style_cli
 from dialogue.style.training import train as style_train
-from dialogue.style.training.data import SPECIALS, Vocab
 from dialogue.style.transfer import StyleTransfer, readable, replace_unknown
 from textnets.loop import Run
+from textnets.vocab import SPECIALS, Vocab
 
 
 @pytest.fixture(scope="module", autouse=True)

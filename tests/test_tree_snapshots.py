@@ -1,6 +1,13 @@
 """Tree snapshots: the behaviour tree's shape, and its statuses at chosen ticks of a seeded
-scenario (the low-battery night: the robot goes to charge at once), compared with the files
-in tests/snapshots/. Refresh them after an intended change with ``make snapshots``."""
+scenario (the low-battery night: critical energy pre-empts at once and the robot goes to
+charge), compared with the files in tests/snapshots/. Refresh them after an intended change
+with ``make snapshots``.
+
+Neither test loads a model. The shape is drawn from a tree that is only built (no
+``setup()``). The statuses come from the tree set up and ticked without a detector
+(detections stay empty), question generator or dialogue model; a stub policy and a stub
+dialogue fail the test if the tree ever consults them: the charge that critical energy
+forces runs through all 400 ticks, so the policy is never asked."""
 
 from __future__ import annotations
 
@@ -8,15 +15,19 @@ import difflib
 import os
 from pathlib import Path
 
+import numpy as np
 import py_trees
 import pytest
 
-from app.run import build_run
 from app.sim.scenario import load_scenario
-from behaviours.tree import render
+from app.sim.simulation import Simulation
+from behaviours.context import make_context
+from behaviours.ticking import SimulationTree
+from behaviours.tree import build_tree, render
 
 SNAPSHOTS = Path(__file__).parent / "snapshots"
 UPDATE = os.environ.get("UPDATE_SNAPSHOTS") == "1"
+SCENARIO = Path(__file__).resolve().parents[1] / "worlds" / "low_battery_night.yaml"
 TICKS = (1, 30, 150, 400)
 
 
@@ -33,26 +44,40 @@ def check(name: str, text: str) -> None:
     assert text == stored, f"{name} differs from its snapshot (`make snapshots` refreshes):\n{diff}"
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    scenario = load_scenario(Path("worlds/low_battery_night.yaml"))
-    r = build_run(scenario.model_copy(update={"duration": 60.0}),
-                  tmp_path_factory.mktemp("run"))
-    yield r
-    r.sim.close()
+class NoPolicy:
+    """A policy the snapshot run must never need."""
+
+    def act(self, motivations: np.ndarray) -> str:
+        pytest.fail(f"the policy was consulted (motivations {motivations})")
 
 
-def test_tree_shape(run):
-    check("tree.txt", render(run.root) + "\n")
+class NoDialogue:
+    """A dialogue manager the snapshot run must never need (the chat skill's setup wants
+    one)."""
+
+    def respond(self, text: str, mood: str) -> None:
+        pytest.fail(f"the dialogue manager was asked to answer {text!r}")
 
 
-def test_statuses_at_chosen_ticks(run):
-    bb = py_trees.blackboard.Client(name="snapshot")
-    bb.register_key("action", access=py_trees.common.Access.READ)
-    parts = []
-    for tick in range(1, max(TICKS) + 1):
-        run.tick()
-        if tick in TICKS:
-            parts.append(f"tick {tick} (t = {run.sim.t:.1f} s, action = {bb.action})\n"
-                         + render(run.root, show_status=True))
+def test_tree_shape():
+    with Simulation(load_scenario(SCENARIO)) as sim:
+        root = build_tree(make_context(sim), NoPolicy(), sim.scenario.robot.initial_drives())
+        check("tree.txt", render(root) + "\n")
+
+
+def test_statuses_at_chosen_ticks():
+    with Simulation(load_scenario(SCENARIO)) as sim:
+        ctx = make_context(sim, dialogue=NoDialogue())
+        tree = SimulationTree(build_tree(ctx, NoPolicy(), sim.scenario.robot.initial_drives()),
+                              sim, ctx)
+        tree.setup()
+        bb = py_trees.blackboard.Client(name="snapshot")
+        bb.register_key("action", access=py_trees.common.Access.READ)
+        parts = []
+        for tick in range(1, max(TICKS) + 1):
+            tree.tick()
+            if tick in TICKS:
+                parts.append(f"tick {tick} (t = {sim.t:.1f} s, action = {bb.action})\n"
+                             + render(tree.root, show_status=True))
+        tree.stop()
     check("statuses.txt", "\n".join(parts) + "\n")

@@ -11,12 +11,8 @@ import pytest
 from app.core.config_files import ConfigError
 from perception.vqg.questions import frame_key, is_grounded, is_on_topic, parse_question, tokenize
 from perception.vqg.scene import Node, SceneGraph
-from perception.vqg.training.data import (
-    load_vqg_data_config,
-    make_renderer,
-    questions_for,
-    write_vqg_dataset,
-)
+from perception.vqg.training.data import make_renderer, questions_for, write_vqg_dataset
+from perception.vqg.training.data_config import load_vqg_data_config
 from perception.vqg.training.facts import Style, wordings
 from perception.vqg.training.layout import sample_plan
 

@@ -16,7 +16,6 @@ import pytest
 import torch
 
 from app.core.errors import UserError
-from dialogue.style.training.data import PAD_ID, make_batch
 from perception.vqg.config import load_vqg_config
 from perception.vqg.generator import VqgModelError, VqgQuestionGenerator
 from perception.vqg.model import Latent, MatchDiscriminator, VqgModel
@@ -27,6 +26,8 @@ from perception.vqg.training import train as vqg_train
 from perception.vqg.training.dataset import read_image
 from perception.vqg.training.facts import facts
 from perception.vqg.verify import FactVerifier
+from textnets.batch import make_batch
+from textnets.vocab import PAD_ID
 
 KINDS = ["mug", "ball", "book", "duck"]
 COLOURS = ["red", "green", "blue", "yellow"]

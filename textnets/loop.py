@@ -1,52 +1,67 @@
-"""The bookkeeping shared by every training phase: checkpoints, CSV logs, progress, resume.
+"""The training loop shared by the adversarial text models (style transfer, VQG): phases of
+steps with checkpoints, CSV logs, progress and resume.
 
 One ``checkpoint.pt`` holds the weights of all networks, the finished phases and, for the
 phase under way, its step, optimizers, batch samplers, RNG state and extra values. It is
 written atomically every ``checkpoint_every`` steps, at the end of each phase and on Ctrl-C;
 ``--resume`` continues from it. Each phase appends to ``log_<phase>.csv`` (means over
-``log_every`` steps, flushed at once); on resume, rows past the checkpoint are dropped.
+``log_every`` steps, flushed at once); on resume, rows past the checkpoint are dropped. The
+folder, checkpoint file and logs are :class:`app.core.checkpoint.TrainingFolder`'s.
 """
 
 from __future__ import annotations
 
 import csv
 import math
-import time
 from collections import defaultdict
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Generic, Protocol, TypeVar
 
 import torch
 from torch import nn
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_torch_save, claim_run_folder
+from app.core.checkpoint import TrainingFolder
 from app.core.errors import UserError
-from dialogue.style.config import StyleConfig
-from dialogue.style.training.data import BatchSampler
+from textnets.batch import BatchSampler
 
 StepFn = Callable[[int], dict[str, float]]
 
 
-class Run:
-    """A training run folder and its checkpoint (see the module docstring)."""
+class LoopSettings(Protocol):
+    """How often the loop logs and checkpoints (a config's ``train`` section)."""
 
-    def __init__(self, cfg: StyleConfig, out_dir: Path, nets: dict[str, nn.Module],
+    log_every: int
+    checkpoint_every: int
+
+
+class TrainingConfig(Protocol):
+    """A model's whole training config; the loop reads its ``train`` section only."""
+
+    @property
+    def train(self) -> LoopSettings:
+        """The loop's settings."""
+        ...
+
+
+C = TypeVar("C", bound=TrainingConfig)
+
+
+class Run(Generic[C]):
+    """A training run of ``nets`` configured by ``cfg`` (see the module docstring)."""
+
+    def __init__(self, cfg: C, out_dir: Path, nets: dict[str, nn.Module],
                  resume: bool, progress: bool, name: str = "style") -> None:
         self.cfg, self.out_dir, self.nets, self.progress = cfg, out_dir, nets, progress
         self.name = name  # shown on the progress bars
-        self.ckpt_path = out_dir / "checkpoint.pt"
-        claim_run_folder(out_dir, self.ckpt_path, resume)
-        self.state: dict[str, Any] | None = None
+        self.folder = TrainingFolder(out_dir, resume)
+        self.ckpt_path = self.folder.ckpt_path
+        self.state = self.folder.state
         self.done: list[str] = []
-        self.wall_offset = 0.0
-        self.start = time.perf_counter()
-        if self.ckpt_path.exists():
-            self.state = torch.load(self.ckpt_path, map_location="cpu", weights_only=True)
+        if self.state is not None:
             self._load_nets()
             self.done = list(self.state["done"])
-            self.wall_offset = float(self.state["wall_s"])
 
     def _load_nets(self) -> None:
         """Load every network from the checkpoint, or say why this run cannot go on."""
@@ -65,20 +80,20 @@ class Run:
 
     def wall(self) -> float:
         """Seconds of training so far, across resumes."""
-        return self.wall_offset + time.perf_counter() - self.start
+        return self.folder.wall()
 
     def save(self, phase: str | None, step: int = 0, optimizers: dict | None = None,
              samplers: dict | None = None, extra: dict | None = None,
              rng: torch.Tensor | None = None) -> None:
         """Write the checkpoint atomically (``samplers`` maps names to their states)."""
-        atomic_torch_save({
+        self.folder.save({
             "nets": {k: v.state_dict() for k, v in self.nets.items()}, "done": self.done,
             "phase": phase, "step": step,
             "optimizers": {k: v.state_dict() for k, v in (optimizers or {}).items()},
             "samplers": samplers or {},
             "torch_rng": torch.get_rng_state() if rng is None else rng,
-            "extra": extra or {}, "wall_s": self.wall(),
-        }, self.ckpt_path)
+            "extra": extra or {},
+        })
 
     def finish(self, phase: str) -> None:
         """Mark ``phase`` done and checkpoint."""
@@ -105,7 +120,8 @@ class Run:
                 s.load_state_dict(self.state["samplers"][k])
             torch.set_rng_state(self.state["torch_rng"])
             extra.update(self.state["extra"])
-        log = self._open_log(phase, ["step", *fields, "wall_s"], start)
+        log = self.folder.open_log(f"log_{phase}.csv", ["step", *fields, "wall_s"],
+                                   keep=lambda row: int(row[0]) <= start)
         writer = csv.writer(log)
         bar = tqdm(total=total, initial=start, desc=f"{self.name} {phase}",
                    disable=not self.progress)
@@ -141,17 +157,6 @@ class Run:
             bar.close()
             log.close()
         self.state = None
-
-    def _open_log(self, phase: str, header: list[str], start: int):
-        path = self.out_dir / f"log_{phase}.csv"
-        rows: list[list[str]] = []
-        if start > 0 and path.exists():
-            with path.open(newline="") as fh:
-                rows = [r for r in list(csv.reader(fh))[1:] if r and int(r[0]) <= start]
-        fh = path.open("w", newline="")
-        csv.writer(fh).writerows([header, *rows])
-        fh.flush()
-        return fh
 
 
 def _fmt(v: float | None) -> str:

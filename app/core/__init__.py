@@ -1,0 +1,1 @@
+"""The ground floor: errors, config loading, atomic files and training folders, event log, paths."""

@@ -1,17 +1,24 @@
-"""Atomic file writes: a crash mid-write never leaves a half-written checkpoint behind."""
+"""Atomic file writes (a crash mid-write never leaves a half-written checkpoint behind), safe
+model-file reading, and :class:`TrainingFolder`, the one checkpoint/resume helper of the
+project's own trainers (policy, chit-chat, and through :mod:`textnets.loop` style transfer and
+VQG; ultralytics keeps its own for the detector)."""
 
 from __future__ import annotations
 
 import atexit
 import contextlib
+import csv
 import os
 import shutil
 import tempfile
+import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import IO, Any, BinaryIO
 
+import numpy as np
 import torch
+import yaml
 
 from app.core.errors import UserError
 
@@ -108,3 +115,91 @@ def fp16_state(module: torch.nn.Module) -> dict[str, torch.Tensor]:
 def fp32_state(state: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
     """A state dict written by :func:`fp16_state`, floating-point tensors back in fp32."""
     return {k: v.float() if v.is_floating_point() else v for k, v in state.items()}
+
+
+_ARRAY = "numpy.ndarray"  # marks an array stored as a tensor in a checkpoint
+
+
+def _pack(obj: Any) -> Any:
+    """``obj`` with numpy arrays as marked tensors and numpy scalars as Python numbers, so that
+    a checkpoint loads with ``weights_only=True`` (no pickled code)."""
+    if isinstance(obj, np.ndarray):
+        return (_ARRAY, torch.from_numpy(obj))
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, dict):
+        return {k: _pack(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(_pack(v) for v in obj)
+    return obj
+
+
+def _unpack(obj: Any) -> Any:
+    """The inverse of :func:`_pack`."""
+    if isinstance(obj, tuple) and len(obj) == 2 and obj[0] == _ARRAY:
+        return obj[1].numpy()
+    if isinstance(obj, dict):
+        return {k: _unpack(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(_unpack(v) for v in obj)
+    return obj
+
+
+def read_checkpoint(path: Path, error: type[UserError] = UserError) -> dict[str, Any]:
+    """A training checkpoint written by :meth:`TrainingFolder.save`, loaded with
+    ``weights_only=True``; ``error`` names the file when it cannot be read."""
+    try:
+        return _unpack(torch.load(path, map_location="cpu", weights_only=True))
+    except Exception as exc:
+        raise error(f"{path}: not a readable checkpoint ({exc}); train into a new --out "
+                    "folder") from None
+
+
+class TrainingFolder:
+    """The folder of one training run and its resumable ``checkpoint.pt``.
+
+    The folder is claimed (:func:`claim_run_folder`); an existing checkpoint is loaded with
+    ``weights_only=True`` (:attr:`state`, None on a fresh run) and refused with ``error`` when
+    unreadable; :meth:`save` writes it atomically with the training's wall time so far, which
+    :meth:`wall` carries across resumes. On a fresh run :meth:`write_config` stores the
+    resolved configuration and :meth:`open_log` starts each CSV log with its header; on a
+    resumed one the log keeps the rows its ``keep`` test accepts and new rows are appended.
+    """
+
+    def __init__(self, out_dir: Path, resume: bool, error: type[UserError] = UserError) -> None:
+        self.out_dir = out_dir
+        self.ckpt_path = out_dir / "checkpoint.pt"
+        claim_run_folder(out_dir, self.ckpt_path, resume)
+        self.state: dict[str, Any] | None = None
+        if self.ckpt_path.exists():
+            self.state = read_checkpoint(self.ckpt_path, error)
+        self._wall_offset = float(self.state["wall_s"]) if self.state else 0.0
+        self._start = time.perf_counter()
+
+    def wall(self) -> float:
+        """Seconds of training so far, across resumes."""
+        return self._wall_offset + time.perf_counter() - self._start
+
+    def save(self, state: dict[str, Any]) -> None:
+        """Write the checkpoint atomically (``state`` plus ``wall_s``)."""
+        atomic_torch_save(_pack({**state, "wall_s": self.wall()}), self.ckpt_path)
+
+    def write_config(self, config: dict[str, Any]) -> None:
+        """Save the run's resolved configuration as ``resolved_config.yaml``."""
+        (self.out_dir / "resolved_config.yaml").write_text(
+            yaml.safe_dump(config, sort_keys=False))
+
+    def open_log(self, name: str, header: list[str],
+                 keep: Callable[[list[str]], bool] | None = None) -> IO[str]:
+        """The CSV log ``name`` opened for appending rows. A fresh run (no checkpoint) starts
+        it with ``header``; a resumed one keeps the earlier rows that ``keep`` accepts (all
+        when None) and drops the rest."""
+        path = self.out_dir / name
+        rows: list[list[str]] = []
+        if self.state is not None and path.exists():
+            with path.open(newline="") as fh:
+                rows = [r for r in list(csv.reader(fh))[1:] if r and (keep is None or keep(r))]
+        fh = path.open("w", newline="")
+        csv.writer(fh).writerows([header, *rows])
+        fh.flush()
+        return fh

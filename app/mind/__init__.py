@@ -1,0 +1,1 @@
+"""The robot's mind: the homeostasis model, its personality file and the decision policy."""

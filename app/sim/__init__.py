@@ -1,0 +1,1 @@
+"""The simulated household: the robot, the world, its people, scenarios and navigation."""

@@ -9,6 +9,9 @@ from pathlib import Path
 import cv2
 import pybullet as p
 
+from app.sim.robot import Robot
+from app.sim.world import World
+
 
 class ScenarioCamera:
     """The robot standing at its start pose in a scenario's world, taking photos on request.
@@ -24,9 +27,6 @@ class ScenarioCamera:
         self._count = itertools.count(1)
 
     def _build(self) -> None:
-        from app.sim.robot import Robot
-        from app.sim.world import World
-
         client = p.connect(p.DIRECT)
         world = World.from_file(self.scenario_path, client)
         self._robot = Robot(client, pose=tuple(world.robot_start()))

@@ -6,15 +6,16 @@ at its own rate (blackboard ``tracking``)."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import py_trees
 from py_trees.common import Status
 from simple_pid import PID
 
 from behaviours.config import FindPeopleConfig, PidGains
-from behaviours.context import Household
+from behaviours.context import Context
 from behaviours.person_range import PersonRange
-from behaviours.skill import HouseholdBehaviour
+from behaviours.skill import ContextBehaviour
 from perception.detector.yolo import Detection
 
 HOLD_PERIODS = 1.5  # by default, without a fresh frame for this many camera periods the base stops
@@ -39,28 +40,32 @@ def has_face(person: Detection, detections: list[Detection], region: float,
     return False
 
 
-class BoxSteering(HouseholdBehaviour):
+class BoxSteering(ContextBehaviour):
     """Base of the leaves that steer by a person box: fresh-frame bookkeeping, the choice
     of the person to follow and the heading PID (turn rate from the box offset). While it
     runs, the camera takes ``rate`` frames a second; a command lasts ``hold_s`` (default
     1.5 frame periods) unless a fresh frame replaces it."""
 
-    def __init__(self, name: str, house: Household, rate: float,
+    def __init__(self, name: str, ctx: Context, rate: float,
                  hold_s: float | None = None) -> None:
-        super().__init__(name, house, reads=("frame", "depth", "frame_t", "detections"),
+        super().__init__(name, ctx, reads=("frame", "depth", "frame_t", "detections"),
                          writes=("tracking",))
         self.rate = rate
-        self.cfg: FindPeopleConfig = house.config.find_people
-        base = house.robot.cfg.base
-        self.heading = make_pid(self.cfg.heading_pid, base.max_angular_speed)
-        self.range = PersonRange(house.robot, house.config.perception)
-        self.tan_half_hfov = 4 / 3 * self.range.tan_half_vfov
+        self.cfg: FindPeopleConfig = ctx.config.find_people
         self.period = 1.0 / rate
         self.hold_s = HOLD_PERIODS * self.period if hold_s is None else hold_s
+        self.heading: PID | None = None         # set in setup(), with the person range
+        self.range: PersonRange | None = None
+        self.tan_half_hfov = 0.0
         self._frame_t = -math.inf
         self._command_t = -math.inf
         self._track: float | None = None   # world direction of the followed person (rad)
         self.hits = 0                       # frames in which the track was seen
+
+    def setup(self, **kwargs: Any) -> None:
+        self.heading = make_pid(self.cfg.heading_pid, self.ctx.robot.cfg.base.max_angular_speed)
+        self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
+        self.tan_half_hfov = 4 / 3 * self.range.tan_half_vfov
 
     def initialise(self) -> None:
         self.bb.tracking = self.rate
@@ -75,7 +80,7 @@ class BoxSteering(HouseholdBehaviour):
         t = self.bb.frame_t
         if self.bb.frame is None or t <= self._frame_t:
             if self.now - self._command_t > self.hold_s:
-                self.house.robot.stop()
+                self.ctx.robot.stop()
             return None
         dt = t - self._frame_t if math.isfinite(self._frame_t) else self.period
         self._frame_t = t
@@ -83,7 +88,7 @@ class BoxSteering(HouseholdBehaviour):
 
     def command(self, vx: float, vy: float, wz: float) -> None:
         """Drive (robot frame) until the next fresh frame."""
-        self.house.robot.set_base_velocity(vx, vy, wz)
+        self.ctx.robot.set_base_velocity(vx, vy, wz)
         self._command_t = self.now
 
     def offset(self, box: Detection) -> float:
@@ -106,7 +111,7 @@ class BoxSteering(HouseholdBehaviour):
         reach = self.distance(box)
         if reach is None:
             return None
-        x, y, yaw = self.house.robot.pose()
+        x, y, yaw = self.ctx.robot.pose()
         heading = yaw + self.bearing(box)
         return x + reach * math.cos(heading), y + reach * math.sin(heading)
 
@@ -124,7 +129,7 @@ class BoxSteering(HouseholdBehaviour):
         ``ignore_width_deg`` of an ``ignored`` one (rad). The best ``conf - gap to the
         track (rad)`` wins."""
         cfg = self.cfg
-        yaw = self.house.robot.pose()[2]
+        yaw = self.ctx.robot.pose()[2]
         bottom = self.bb.frame.shape[0] - cfg.bottom_margin_px
 
         def direction(d: Detection) -> float:
@@ -139,7 +144,7 @@ class BoxSteering(HouseholdBehaviour):
         keep = math.radians(cfg.keep_gap_deg)
         boxes = [d for d in detections
                  if d.cls == "person" and d.box[3] >= bottom
-                 and (d.conf >= self.house.config.perception.min_conf
+                 and (d.conf >= self.ctx.config.perception.min_conf
                       or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
                  and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)
                  and self.range.plausible(self.bb.depth, d, self.distance(d))]
@@ -159,7 +164,7 @@ class BoxSteering(HouseholdBehaviour):
         self._track, self.hits = None, 0
 
     def terminate(self, new_status: Status) -> None:
-        self.house.robot.stop()
+        self.ctx.robot.stop()
 
 
 class Tracking(py_trees.decorators.PassThrough):
@@ -167,23 +172,23 @@ class Tracking(py_trees.decorators.PassThrough):
     camera back at the scenario's rate (blackboard ``tracking`` 0), base stopped, head back
     where it was."""
 
-    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, ctx: Context
                  ) -> None:
         super().__init__(name, child)
-        self.house = house
+        self.ctx = ctx
         self.bb = self.attach_blackboard_client(name=name)
         self.bb.register_key("tracking", access=py_trees.common.Access.WRITE)
         self._head: dict[str, float] = {}
 
     def initialise(self) -> None:
-        targets = self.house.robot.joint_targets()
+        targets = self.ctx.robot.joint_targets()
         self._head = {j: targets[j] for j in ("HeadYaw", "HeadPitch")}
-        self.house.robot.move_joints(
-            {"HeadYaw": 0.0, "HeadPitch": self.house.config.find_people.head_pitch}, 1.0)
+        self.ctx.robot.move_joints(
+            {"HeadYaw": 0.0, "HeadPitch": self.ctx.config.find_people.head_pitch}, 1.0)
 
     def terminate(self, new_status: Status) -> None:
         self.bb.tracking = 0.0
-        self.house.robot.stop()
+        self.ctx.robot.stop()
         if self._head:
-            self.house.robot.move_joints(self._head, 1.0)
+            self.ctx.robot.move_joints(self._head, 1.0)
             self._head = {}

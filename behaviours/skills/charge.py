@@ -6,15 +6,16 @@ charger is unplugged."""
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import py_trees
 from py_trees.common import Status
 
-from app.sim.navigation import Navigator, Point
+from app.sim.navigation import Navigator, PathFollower, Point
 from app.sim.robot import wrap_angle
 from app.sim.world import Pose2D
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour, Relieve, Say
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour, Relieve, Say
 
 ESCAPED_M = 0.02   # m: this close to the free cell where the path begins, the slide ends
 
@@ -25,11 +26,11 @@ def predock_pose(dock: Pose2D, distance: float) -> Pose2D:
                   dock.yaw)
 
 
-class StopBase(HouseholdBehaviour):
+class StopBase(ContextBehaviour):
     """A driving leaf: the base stops whenever the leaf ends (done, failed or interrupted)."""
 
     def terminate(self, new_status: Status) -> None:
-        self.house.robot.set_base_velocity(0.0, 0.0, 0.0)
+        self.ctx.robot.set_base_velocity(0.0, 0.0, 0.0)
 
 
 class FollowPath(StopBase):
@@ -39,17 +40,23 @@ class FollowPath(StopBase):
     A robot standing inside an inflated obstacle first slides, without turning, to the
     free cell where the path begins."""
 
-    def __init__(self, name: str, house: Household, navigator: Navigator, goal: Point) -> None:
-        super().__init__(name, house)
-        self.navigator = navigator
+    def __init__(self, name: str, ctx: Context, goal: Point) -> None:
+        super().__init__(name, ctx)
         self.goal = goal
-        self.follower = house.path_follower()
+        self.navigator: Navigator | None = None   # set in setup(), with the follower
+        self.follower: PathFollower | None = None
         self._stuck_since: float | None = None
         self._has_path = False
         self._escape: Point | None = None
 
+    def setup(self, **kwargs: Any) -> None:
+        """The planner on the floor map's occupancy grid, and the path follower."""
+        cfg = self.ctx.config.charge
+        self.navigator = Navigator(self.ctx.world, cfg.grid_resolution, cfg.robot_radius)
+        self.follower = self.ctx.path_follower()
+
     def _plan(self) -> None:
-        x, y, _ = self.house.robot.pose()
+        x, y, _ = self.ctx.robot.pose()
         path = self.navigator.plan((x, y), self.goal)
         self._has_path = path is not None
         self._stuck_since = None
@@ -65,21 +72,21 @@ class FollowPath(StopBase):
         self._plan()
 
     def update(self) -> Status:
-        robot = self.house.robot
+        robot = self.ctx.robot
         if self._has_path and self.follower.arrived(*robot.pose()[:2]):
             return Status.SUCCESS
         if self._has_path and not robot.blocked:
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now
-        elif self.now - self._stuck_since >= self.house.config.charge.replan_blocked_s:
+        elif self.now - self._stuck_since >= self.ctx.config.charge.replan_blocked_s:
             self.emit("replan", pose=list(robot.pose()))
             self._plan()
         robot.set_base_velocity(*self._command())
         return Status.RUNNING
 
     def _command(self) -> tuple[float, float, float]:
-        pose = self.house.robot.pose()
+        pose = self.ctx.robot.pose()
         if not self._has_path:
             return 0.0, 0.0, 0.0
         if self._escape is not None and math.dist(pose[:2], self._escape) > ESCAPED_M:
@@ -92,18 +99,21 @@ class DockIn(StopBase):
     """Turn on the spot to the dock's heading, then drive straight in; SUCCESS (and a
     ``docked`` event) within ``dock_position_tolerance`` and ``dock_yaw_tolerance_deg``."""
 
-    def __init__(self, name: str, house: Household, dock: Pose2D) -> None:
-        super().__init__(name, house)
+    def __init__(self, name: str, ctx: Context, dock: Pose2D) -> None:
+        super().__init__(name, ctx)
         self.dock = dock
-        self.follower = house.path_follower()
+        self.follower: PathFollower | None = None   # set in setup()
         self._aligned = False
+
+    def setup(self, **kwargs: Any) -> None:
+        self.follower = self.ctx.path_follower()
 
     def initialise(self) -> None:
         self.follower.reset()
         self._aligned = False
 
     def update(self) -> Status:
-        cfg, robot = self.house.config.charge, self.house.robot
+        cfg, robot = self.ctx.config.charge, self.ctx.robot
         x, y, yaw = robot.pose()
         offset = math.hypot(self.dock.x - x, self.dock.y - y)
         yaw_error = abs(wrap_angle(self.dock.yaw - yaw))
@@ -121,21 +131,21 @@ class Deadline(py_trees.decorators.PassThrough):
     """Pass the child's status through, but FAILURE (and a ``dock_failed`` event) once it
     has been running ``timeout_s`` simulated seconds."""
 
-    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household,
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, ctx: Context,
                  timeout_s: float) -> None:
         super().__init__(name, child)
-        self.house = house
+        self.ctx = ctx
         self.timeout_s = timeout_s
         self._deadline = 0.0
 
     def initialise(self) -> None:
-        self._deadline = self.house.now + self.timeout_s
+        self._deadline = self.ctx.now + self.timeout_s
 
     def update(self) -> Status:
-        if self.decorated.status == Status.RUNNING and self.house.now >= self._deadline:
-            x, y, yaw = self.house.robot.pose()
-            self.house.events.emit("dock_failed", behaviour=self.name, pose=[x, y, yaw],
-                                   timeout_s=self.timeout_s)
+        if self.decorated.status == Status.RUNNING and self.ctx.now >= self._deadline:
+            x, y, yaw = self.ctx.robot.pose()
+            self.ctx.events.emit("dock_failed", behaviour=self.name, pose=[x, y, yaw],
+                                 timeout_s=self.timeout_s)
             return Status.FAILURE
         return self.decorated.status
 
@@ -144,39 +154,38 @@ class PluggedIn(py_trees.decorators.PassThrough):
     """Charge while the child runs: plug in when it starts, unplug when it ends, fails or
     is interrupted."""
 
-    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, house: Household) -> None:
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, ctx: Context) -> None:
         super().__init__(name, child)
-        self.house = house
+        self.ctx = ctx
 
     def initialise(self) -> None:
-        self.house.robot.start_charging()
-        self.house.events.emit("charging", behaviour=self.name, battery=self.house.robot.battery)
+        self.ctx.robot.start_charging()
+        self.ctx.events.emit("charging", behaviour=self.name, battery=self.ctx.robot.battery)
 
     def terminate(self, new_status: Status) -> None:
-        if self.house.robot.charging:
-            self.house.robot.stop_charging()
-            self.house.events.emit("unplugged", behaviour=self.name,
-                                   battery=self.house.robot.battery,
-                                   interrupted=new_status == Status.INVALID)
+        if self.ctx.robot.charging:
+            self.ctx.robot.stop_charging()
+            self.ctx.events.emit("unplugged", behaviour=self.name,
+                                 battery=self.ctx.robot.battery,
+                                 interrupted=new_status == Status.INVALID)
 
 
-def approach(house: Household) -> py_trees.behaviour.Behaviour:
+def approach(ctx: Context) -> py_trees.behaviour.Behaviour:
     """Drive to the pre-dock pose and dock, failing after ``charge.timeout_s``."""
-    cfg = house.config.charge
-    navigator = Navigator(house.world, cfg.grid_resolution, cfg.robot_radius)
-    dock = house.world.dock_pose()
+    cfg = ctx.config.charge
+    dock = ctx.world.dock_pose()
     predock = predock_pose(dock, cfg.predock_distance)
     steps = py_trees.composites.Sequence("Approach dock", memory=True, children=[
-        FollowPath("Go to pre-dock", house, navigator, (predock.x, predock.y)),
-        DockIn("Dock in", house, dock)])
-    return Deadline("Dock in time", steps, house, cfg.timeout_s)
+        FollowPath("Go to pre-dock", ctx, (predock.x, predock.y)),
+        DockIn("Dock in", ctx, dock)])
+    return Deadline("Dock in time", steps, ctx, cfg.timeout_s)
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     """The charge subtree: ask, approach and dock, charge while relieving, ask to unplug."""
-    cfg = house.config.charge
+    cfg = ctx.config.charge
     return py_trees.composites.Sequence("Charge", memory=True, children=[
-        Say("Ask to charge", house, cfg.ask),
-        approach(house),
-        PluggedIn("Plugged in", Relieve("Charge relieves", house, "charge"), house),
-        Say("Ask to unplug", house, cfg.done)])
+        Say("Ask to charge", ctx, cfg.ask),
+        approach(ctx),
+        PluggedIn("Plugged in", Relieve("Charge relieves", ctx, "charge"), ctx),
+        Say("Ask to unplug", ctx, cfg.done)])

@@ -8,20 +8,22 @@ current mood; with nothing to answer it opens with ``opener``. The action lasts 
 
 from __future__ import annotations
 
+from typing import Any
+
 import py_trees
 from py_trees.common import Status
 
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour, Relieve
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour, Relieve
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
 
 
-class SomeoneInFront(HouseholdBehaviour):
+class SomeoneInFront(ContextBehaviour):
     """SUCCESS while the human-present stimulus is on, else FAILURE (and an event)."""
 
-    def __init__(self, house: Household, name: str = "Someone in front?") -> None:
-        super().__init__(name, house, reads=("stimuli",))
+    def __init__(self, ctx: Context, name: str = "Someone in front?") -> None:
+        super().__init__(name, ctx, reads=("stimuli",))
 
     def update(self) -> Status:
         if self.bb.stimuli[HUMAN_PRESENT] > 0:
@@ -30,22 +32,26 @@ class SomeoneInFront(HouseholdBehaviour):
         return Status.FAILURE
 
 
-class Converse(HouseholdBehaviour):
+class Converse(ContextBehaviour):
     """Answer queued lines one at a time, each after the previous reply has been said."""
 
-    def __init__(self, house: Household, name: str = "Converse") -> None:
-        super().__init__(name, house, reads=("mood",), writes=("heard",))
+    def __init__(self, ctx: Context, name: str = "Converse") -> None:
+        super().__init__(name, ctx, reads=("mood",), writes=("heard",))
         self._busy_until = 0.0
 
+    def setup(self, **kwargs: Any) -> None:
+        if self.ctx.dialogue is None:
+            raise ValueError("the chat skill needs ctx.dialogue (a DialogueManager)")
+
     def _pending(self) -> list:
-        oldest = self.now - self.house.config.chat.max_heard_age_s
+        oldest = self.now - self.ctx.config.chat.max_heard_age_s
         return [ev for ev in self.bb.heard if ev.t >= oldest]
 
     def initialise(self) -> None:
         self._busy_until = self.now
         if not self._pending():
-            self._busy_until += self.house.speaker.say(self.house.config.chat.opener,
-                                                       behaviour=self.name)
+            self._busy_until += self.ctx.speaker.say(self.ctx.config.chat.opener,
+                                                     behaviour=self.name)
 
     def update(self) -> Status:
         pending = self._pending()
@@ -54,20 +60,19 @@ class Converse(HouseholdBehaviour):
             return Status.RUNNING
         said, self.bb.heard = pending[0], pending[1:]
         mood = "positive" if self.bb.mood["positive"] else "negative"
-        reply = self.house.dialogue.respond(said.text, mood)
-        self._busy_until = self.now + self.house.speaker.say(
+        reply = self.ctx.dialogue.respond(said.text, mood)
+        self._busy_until = self.now + self.ctx.speaker.say(
             reply.text, behaviour=self.name, to=said.person, in_reply_to=said.text,
             route=reply.route, mood=mood)
         return Status.RUNNING
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
-    """The chat subtree: someone in front? then converse for the action's duration."""
-    if house.dialogue is None:
-        raise ValueError("the chat skill needs house.dialogue (a DialogueManager)")
-    relieve = Relieve("Chat relieves", house, "chat")
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
+    """The chat subtree: someone in front? then converse for the action's duration (its
+    setup needs ``ctx.dialogue``)."""
+    relieve = Relieve("Chat relieves", ctx, "chat")
     talk = py_trees.composites.Parallel(
         "Talk", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
-        children=[Converse(house), relieve])
+        children=[Converse(ctx), relieve])
     return py_trees.composites.Sequence("Chat", memory=True,
-                                        children=[SomeoneInFront(house), talk])
+                                        children=[SomeoneInFront(ctx), talk])

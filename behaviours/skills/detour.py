@@ -16,7 +16,7 @@ import math
 from app.sim.navigation import Navigator, Point, Velocity
 from app.sim.robot import wrap_angle
 from app.sim.world import Pose2D
-from behaviours.context import Household
+from behaviours.context import Context
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
 LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate
@@ -27,12 +27,12 @@ SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to furniture (n
 class Detour:
     """Plans and drives one detour at a time to a person's estimated position."""
 
-    def __init__(self, house: Household) -> None:
-        self.cfg = house.config.find_people
-        charge = house.config.charge
-        self.planner = Navigator(house.world, charge.grid_resolution, charge.robot_radius).planner
-        self.sight = Navigator(house.world, charge.grid_resolution, SIGHT_CLEARANCE_M).planner.grid
-        self.follower = house.path_follower()
+    def __init__(self, ctx: Context) -> None:
+        self.cfg = ctx.config.find_people
+        charge = ctx.config.charge
+        self.planner = Navigator(ctx.world, charge.grid_resolution, charge.robot_radius).planner
+        self.sight = Navigator(ctx.world, charge.grid_resolution, SIGHT_CLEARANCE_M).planner.grid
+        self.follower = ctx.path_follower()
         self.target: Point | None = None    # the person's estimated position
         self.active = False
         self._turning = False

@@ -19,11 +19,13 @@ states and parameters. The shared steering pieces live in ``box_steering.py``.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import py_trees
 from py_trees.common import ParallelPolicy, Status
+from simple_pid import PID
 
-from behaviours.context import Household
+from behaviours.context import Context
 from behaviours.skill import Relieve, Say
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
 from behaviours.skills.detour import Detour
@@ -41,9 +43,10 @@ class ApproachPerson(BoxSteering):
     it is no person), or a near box without a face that keeps vanishing, is ignored for
     ``ignore_s``: boxes towards where they stand. FAILURE after ``timeout_s``."""
 
-    def __init__(self, house: Household, name: str = "Approach a person") -> None:
-        super().__init__(name, house, house.config.perception.tracking_rate)
-        self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
+    def __init__(self, ctx: Context, name: str = "Approach a person") -> None:
+        super().__init__(name, ctx, ctx.config.perception.tracking_rate)
+        self.approach: PID | None = None          # set in setup(), with the detour planner
+        self.detour: Detour | None = None
         self._start = self._seen = 0.0           # s: started, person last seen
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
@@ -53,8 +56,12 @@ class ApproachPerson(BoxSteering):
         self._ignored: dict[tuple[float, float], float] = {}
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
         self._spot: tuple[float, float] | None = None   # where the followed person stands
-        self.detour = Detour(house)
         self._detours = 0                        # detours taken for the followed person
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
+        self.detour = Detour(self.ctx)   # two occupancy grids of the floor map
 
     def initialise(self) -> None:
         super().initialise()
@@ -79,7 +86,7 @@ class ApproachPerson(BoxSteering):
         self._ignored = {s: t for s, t in self._ignored.items() if t > self.now}
         if self.detour.active:
             return self._drive_detour()
-        x, y, _ = self.house.robot.pose()
+        x, y, _ = self.ctx.robot.pose()
         person = self.follow(detections, tuple(math.atan2(sy - y, sx - x)
                                                for sx, sy in self._ignored))
         if person is None or self.hits < self.cfg.confirm_frames:
@@ -108,8 +115,8 @@ class ApproachPerson(BoxSteering):
             self.approach.reset()
             self._seen = self._close_since = self._near_since = -math.inf
             self._faces = 0
-        vx, vy, wz = self.house.robot.base_velocity
-        if self.house.robot.blocked and vx == vy == 0.0 and wz * self._turn > 0:
+        vx, vy, wz = self.ctx.robot.base_velocity
+        if self.ctx.robot.blocked and vx == vy == 0.0 and wz * self._turn > 0:
             if self.now - self._reversed < math.tau / self.cfg.search_turn_speed:
                 self._escape_start = self.now
             self._turn, self._reversed = -self._turn, self.now
@@ -159,7 +166,7 @@ class ApproachPerson(BoxSteering):
     def _start_detour(self, person: Detection) -> bool:
         """Plan a detour when the map has furniture between the robot and the person."""
         spot = self.locate(person)
-        x, y, _ = self.house.robot.pose()
+        x, y, _ = self.ctx.robot.pose()
         if spot is None or not self.detour.obstructed((x, y), spot):
             return False
         path = self.detour.start((x, y), spot)
@@ -173,7 +180,7 @@ class ApproachPerson(BoxSteering):
     def _drive_detour(self) -> Status:
         """Follow the detour. Once it is over (or the base is blocked on it), the robot
         faces where the person was estimated, and the visual approach goes on from there."""
-        robot = self.house.robot
+        robot = self.ctx.robot
         command = None if robot.blocked else self.detour.command(robot.pose())
         if command is not None:
             self.command(*command)
@@ -199,7 +206,7 @@ class ApproachPerson(BoxSteering):
             return
         self._ignore(self._track)
         self.emit("no_face", bearing_deg=round(math.degrees(math.remainder(
-            self._track - self.house.robot.pose()[2], math.tau)), 2),
+            self._track - self.ctx.robot.pose()[2], math.tau)), 2),
             face_frames=self._faces, vanished=count)
 
     def _orbit(self, waited: float) -> float:
@@ -211,7 +218,7 @@ class ApproachPerson(BoxSteering):
     def _ignore(self, heading: float) -> None:
         """Ignore the followed person's spot (or, not located, a spot 1 m along their world
         ``heading``) for ``ignore_s``."""
-        x, y, _ = self.house.robot.pose()
+        x, y, _ = self.ctx.robot.pose()
         spot = self._spot or (x + math.cos(heading), y + math.sin(heading))
         self._ignored[spot] = self.now + self.cfg.ignore_s
         self._spot = None
@@ -220,7 +227,7 @@ class ApproachPerson(BoxSteering):
         """The person close by has not shown their face: ignore where they are for
         ``ignore_s`` and search on."""
         bearing = self.bearing(person)
-        self._ignore(self.house.robot.pose()[2] + bearing)
+        self._ignore(self.ctx.robot.pose()[2] + bearing)
         self.emit("no_face", bearing_deg=round(math.degrees(bearing), 2), face_frames=self._faces)
         self.forget()
         self._seen = self._close_since = self._near_since = -math.inf
@@ -232,7 +239,7 @@ class ApproachPerson(BoxSteering):
         reported being blocked while driving forwards: back up for ``escape_back_s``, then
         step sideways for ``escape_side_s``. A blocked sidestep starts a new escape to the
         other side; the side that got through is kept for the next escape."""
-        cfg, blocked = self.cfg, self.house.robot.blocked
+        cfg, blocked = self.cfg, self.ctx.robot.blocked
         sidestep_from = self._escape_start + cfg.escape_back_s
         if self.now >= sidestep_from + cfg.escape_side_s:
             if not (blocked and vx > 0):
@@ -252,9 +259,9 @@ class KeepCentred(BoxSteering):
     so each turn command lasts one approach frame period only: the heading PID then corrects
     the same share of the error per frame as it does there, instead of overshooting."""
 
-    def __init__(self, house: Household, name: str = "Keep them centred") -> None:
-        perception = house.config.perception
-        super().__init__(name, house, perception.centring_rate,
+    def __init__(self, ctx: Context, name: str = "Keep them centred") -> None:
+        perception = ctx.config.perception
+        super().__init__(name, ctx, perception.centring_rate,
                          hold_s=1.0 / perception.tracking_rate)
 
     def update(self) -> Status:
@@ -266,16 +273,16 @@ class KeepCentred(BoxSteering):
         return Status.RUNNING
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     """The find-people subtree: approach a person, then greet them and relieve the
     belonging drive while keeping them centred."""
     greet_then_relieve = py_trees.composites.Sequence(
         "Greet and stay", memory=True,
-        children=[Say("Greet", house, house.config.find_people.greet),
-                  Relieve("Belonging relieves", house, "find_people")])
+        children=[Say("Greet", ctx, ctx.config.find_people.greet),
+                  Relieve("Belonging relieves", ctx, "find_people")])
     together = py_trees.composites.Parallel(
         "With the person", policy=ParallelPolicy.SuccessOnOne(),
-        children=[greet_then_relieve, KeepCentred(house)])
+        children=[greet_then_relieve, KeepCentred(ctx)])
     steps = py_trees.composites.Sequence("Find people steps", memory=True,
-                                         children=[ApproachPerson(house), together])
-    return Tracking("Find people", steps, house)
+                                         children=[ApproachPerson(ctx), together])
+    return Tracking("Find people", steps, ctx)

@@ -8,35 +8,35 @@ import py_trees
 from py_trees.common import Status
 
 from app.sim.robot import Robot
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour
 
 STAND = "Stand"
 
 
-class GoToPosture(HouseholdBehaviour):
+class GoToPosture(ContextBehaviour):
     """Command a posture of robot.yaml; SUCCESS once it is reached, FAILURE (and a
     ``posture_timeout`` event naming the joints still off target) if that takes longer than
     ``timeout_s``."""
 
-    def __init__(self, house: Household, posture: str, speed: float | None, timeout_s: float,
+    def __init__(self, ctx: Context, posture: str, speed: float | None, timeout_s: float,
                  name: str | None = None) -> None:
-        super().__init__(name or posture, house)
+        super().__init__(name or posture, ctx)
         self.posture = posture
         self.speed = speed
         self.timeout_s = timeout_s
         self._deadline = 0.0
 
     def initialise(self) -> None:
-        self.house.robot.set_posture(self.posture, self.speed)
+        self.ctx.robot.set_posture(self.posture, self.speed)
         self._deadline = self.now + self.timeout_s
 
     def update(self) -> Status:
-        if self.house.robot.posture_reached():
+        if self.ctx.robot.posture_reached():
             return Status.SUCCESS
         if self.now >= self._deadline:
             self.emit("posture_timeout", posture=self.posture,
-                      off_target=self.house.robot.joints_off_target())
+                      off_target=self.ctx.robot.joints_off_target())
             return Status.FAILURE
         return Status.RUNNING
 

@@ -6,19 +6,19 @@ from __future__ import annotations
 
 import py_trees
 
-from behaviours.context import Household
+from behaviours.context import Context
 from behaviours.skill import Relieve, Say
 from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     """The rest subtree: say, crouch, relieve while crouched, stand up."""
-    cfg = house.config.rest
+    cfg = ctx.config.rest
     steps = [
-        Say("Say rest", house, cfg.say),
-        GoToPosture(house, cfg.posture, cfg.speed, cfg.posture_timeout_s, name="Rest posture"),
-        Relieve("Rest relieves", house, "rest"),
-        GoToPosture(house, STAND, cfg.speed, cfg.posture_timeout_s, name="Stand up"),
+        Say("Say rest", ctx, cfg.say),
+        GoToPosture(ctx, cfg.posture, cfg.speed, cfg.posture_timeout_s, name="Rest posture"),
+        Relieve("Rest relieves", ctx, "rest"),
+        GoToPosture(ctx, STAND, cfg.speed, cfg.posture_timeout_s, name="Stand up"),
     ]
     return StandOnExit("Rest", py_trees.composites.Sequence("Rest steps", memory=True,
-                                                            children=steps), house.robot)
+                                                            children=steps), ctx.robot)

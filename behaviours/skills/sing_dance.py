@@ -4,31 +4,37 @@ duration, then stand. Each start of the skill takes the next routine in the file
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from typing import Any
 
 import py_trees
 from py_trees.common import Status
 
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour, Relieve
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour, Relieve
 from behaviours.skills.dances import Routine, load_dances
 from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
 
 
-class Dance(HouseholdBehaviour):
+class Dance(ContextBehaviour):
     """Sing each lyric line and command each keyframe at its time, looping the routine;
-    RUNNING until stopped. Every start takes the next routine (rotating)."""
+    RUNNING until stopped. Every start takes the next routine (rotating). The routines
+    file (``sing_dance.routines``) is loaded and checked against the robot's joint limits
+    in ``setup()``."""
 
-    def __init__(self, house: Household, routines: Sequence[Routine], speed: float,
-                 name: str = "Dance") -> None:
-        super().__init__(name, house)
-        self.routines = list(routines)
+    def __init__(self, ctx: Context, speed: float, name: str = "Dance") -> None:
+        super().__init__(name, ctx)
         self.speed = speed
-        self.routine = self.routines[0]
+        self.routines: list[Routine] = []     # loaded in setup()
+        self.routine: Routine | None = None   # the one danced now
         self._turn = 0
         self._pass_start = 0.0
         self._next_line = 0
         self._next_frame = 0
+
+    def setup(self, **kwargs: Any) -> None:
+        book = load_dances(self.ctx.config.sing_dance.resolved_routines(),
+                           self.ctx.robot.joint_limits())
+        self.routines = list(book.routines)
 
     def initialise(self) -> None:
         self.routine = self.routines[self._turn % len(self.routines)]
@@ -46,23 +52,22 @@ class Dance(HouseholdBehaviour):
             self._begin_pass(self._pass_start + r.length_s)
         due = self.now - self._pass_start + 1e-9
         while self._next_frame < len(r.keyframes) and r.keyframes[self._next_frame].at <= due:
-            self.house.robot.move_joints(r.keyframes[self._next_frame].targets(), self.speed)
+            self.ctx.robot.move_joints(r.keyframes[self._next_frame].targets(), self.speed)
             self._next_frame += 1
         while self._next_line < len(r.lyrics) and r.lyrics[self._next_line].at <= due:
-            self.house.speaker.say(r.lyrics[self._next_line].text, behaviour=self.name,
-                                   song=r.title)
+            self.ctx.speaker.say(r.lyrics[self._next_line].text, behaviour=self.name,
+                                 song=r.title)
             self._next_line += 1
         return Status.RUNNING
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     """The sing/dance subtree: dance while the action's duration runs, then stand."""
-    cfg = house.config.sing_dance
-    book = load_dances(cfg.resolved_routines(), house.robot.joint_limits())
-    relieve = Relieve("Dancing relieves", house, "sing_dance")
+    cfg = ctx.config.sing_dance
+    relieve = Relieve("Dancing relieves", ctx, "sing_dance")
     perform = py_trees.composites.Parallel(
         "Perform", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
-        children=[Dance(house, book.routines, cfg.speed), relieve])
-    steps = [perform, GoToPosture(house, STAND, None, cfg.posture_timeout_s)]
+        children=[Dance(ctx, cfg.speed), relieve])
+    steps = [perform, GoToPosture(ctx, STAND, None, cfg.posture_timeout_s)]
     return StandOnExit("Sing and dance", py_trees.composites.Sequence(
-        "Sing and dance steps", memory=True, children=steps), house.robot)
+        "Sing and dance steps", memory=True, children=steps), ctx.robot)

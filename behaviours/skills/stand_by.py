@@ -9,20 +9,20 @@ import math
 import py_trees
 from py_trees.common import Status
 
-from behaviours.context import Household
-from behaviours.skill import HouseholdBehaviour, Relieve
+from behaviours.context import Context
+from behaviours.skill import ContextBehaviour, Relieve
 from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
 
 SWAY_SPEED = 1.0  # the target moves smoothly, so the ramp may follow it at full speed
 
 
-class HeadSway(HouseholdBehaviour):
+class HeadSway(ContextBehaviour):
     """Turn the head as ``amplitude * sin(2 pi t / period)`` (rad) from when it starts;
     RUNNING until stopped."""
 
-    def __init__(self, house: Household, amplitude: float, period_s: float,
+    def __init__(self, ctx: Context, amplitude: float, period_s: float,
                  name: str = "Look around") -> None:
-        super().__init__(name, house)
+        super().__init__(name, ctx)
         self.amplitude = amplitude
         self.period_s = period_s
         self._start = 0.0
@@ -32,19 +32,19 @@ class HeadSway(HouseholdBehaviour):
 
     def update(self) -> Status:
         phase = 2.0 * math.pi * (self.now - self._start) / self.period_s
-        self.house.robot.move_joints({"HeadYaw": self.amplitude * math.sin(phase)}, SWAY_SPEED)
+        self.ctx.robot.move_joints({"HeadYaw": self.amplitude * math.sin(phase)}, SWAY_SPEED)
         return Status.RUNNING
 
 
-def build(house: Household) -> py_trees.behaviour.Behaviour:
+def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     """The stand-by subtree: stand, look around while the duration runs, recentre."""
-    cfg = house.config.stand_by
-    relieve = Relieve("Stand-by counts", house, "stand_by")
+    cfg = ctx.config.stand_by
+    relieve = Relieve("Stand-by counts", ctx, "stand_by")
     idle = py_trees.composites.Parallel(
         "Idle", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
-        children=[HeadSway(house, cfg.head_yaw_amplitude, cfg.period_s), relieve])
-    steps = [GoToPosture(house, STAND, None, cfg.posture_timeout_s),
+        children=[HeadSway(ctx, cfg.head_yaw_amplitude, cfg.period_s), relieve])
+    steps = [GoToPosture(ctx, STAND, None, cfg.posture_timeout_s),
              idle,
-             GoToPosture(house, STAND, None, cfg.posture_timeout_s, name="Recentre")]
+             GoToPosture(ctx, STAND, None, cfg.posture_timeout_s, name="Recentre")]
     return StandOnExit("Stand by", py_trees.composites.Sequence("Stand-by steps", memory=True,
-                                                                children=steps), house.robot)
+                                                                children=steps), ctx.robot)

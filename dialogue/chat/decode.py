@@ -11,8 +11,8 @@ from __future__ import annotations
 import torch
 
 from dialogue.chat.config import ChatDecodeConfig
-from dialogue.chat.model import Seq2Seq, State
-from dialogue.chat.training.data import BOS_ID, EOS_ID, PAD_ID, UNK_ID
+from dialogue.chat.seq2seq import Seq2Seq, State
+from textnets.vocab import BOS_ID, EOS_ID, PAD_ID, UNK_ID
 
 NEG_INF = float("-inf")
 

@@ -1,15 +1,6 @@
-"""The chit-chat bot (thesis §3.3, §4.2): an LSTM encoder-decoder with Luong attention.
-
-* Encoder: a ``layers``-deep bidirectional LSTM over the utterance (packed, so padding never
-  reaches it); its final states, the two directions side by side, start the decoder.
-* Decoder: a ``layers``-deep LSTM over ``<bos> + reply``. At every step Luong's "general"
-  attention scores the encoder outputs, the context and the decoder output go through
-  ``tanh(W_c [c; h])`` to the embedding size, and the output layer is the transposed word
-  embedding (tied weights, one matrix for encoder, decoder and output).
-* Loss: teacher-forced cross-entropy summed over real reply tokens (padding excluded).
-
-:class:`ChitChatModel` wraps a trained file and implements the dialogue manager's
-``ChitChat`` protocol.
+"""The chit-chat bot the robot loads: :class:`ChitChatModel` wraps a trained model file (the
+:class:`dialogue.chat.seq2seq.Seq2Seq` network, its vocabulary and config) and implements the
+dialogue manager's ``ChitChat`` protocol; decoding is :mod:`dialogue.chat.decode`'s.
 """
 
 from __future__ import annotations
@@ -18,104 +9,22 @@ from pathlib import Path
 from typing import Any
 
 import torch
-import torch.nn.functional as F  # noqa: N812
-from torch import nn
-from torch.nn.utils.rnn import pack_padded_sequence, pad_packed_sequence
 
 from app.core.checkpoint import atomic_torch_save, read_weights
 from app.core.errors import UserError
 from dialogue.chat.config import ChatDecodeConfig, ChatModelConfig
-from dialogue.chat.training.data import PAD_ID, UNK_ID, Batch, Vocab, detokenize, tokenize
+from dialogue.chat.decode import beam_search, sample
+from dialogue.chat.seq2seq import Seq2Seq
+from dialogue.chat.text import detokenize, tokenize
+from textnets.vocab import UNK_ID, Vocab
 
 FORMAT = "companion-chat-1"
 FALLBACK = "I see. Tell me more."
 MAX_CHARS = 2000  # longer input is cut before tokenising
-State = tuple[torch.Tensor, torch.Tensor]
 
 
 class ChatModelError(UserError):
     """A chit-chat model file is missing, unreadable or inconsistent."""
-
-
-class Seq2Seq(nn.Module):
-    """Encoder-decoder LSTM with Luong (general) attention and tied embeddings."""
-
-    def __init__(self, vocab_size: int, cfg: ChatModelConfig) -> None:
-        super().__init__()
-        self.cfg = cfg
-        e, h, n = cfg.embedding, cfg.hidden, cfg.layers
-        inner = cfg.dropout if n > 1 else 0.0
-        self.embed = nn.Embedding(vocab_size, e, padding_idx=PAD_ID)
-        self.encoder = nn.LSTM(e, h // 2 if cfg.bidirectional else h, n, batch_first=True,
-                               dropout=inner, bidirectional=cfg.bidirectional)
-        self.decoder = nn.LSTM(e, h, n, batch_first=True, dropout=inner)
-        self.attn = nn.Linear(h, h, bias=False)  # score(h_t, h_s) = h_t^T W_a h_s
-        self.combine = nn.Linear(2 * h, e)  # attentional vector, embedding-sized for tying
-        self.out_bias = nn.Parameter(torch.zeros(vocab_size))
-        self.drop = nn.Dropout(cfg.dropout)
-        nn.init.normal_(self.embed.weight, std=e ** -0.5)
-        with torch.no_grad():
-            self.embed.weight[PAD_ID].zero_()
-
-    def encode(self, src: torch.Tensor, src_mask: torch.Tensor) -> tuple[torch.Tensor, State]:
-        """Encoder outputs ``(B, S, H)`` and the decoder's initial state."""
-        lengths = src_mask.sum(1).clamp(min=1).cpu()
-        packed = pack_padded_sequence(self.drop(self.embed(src)), lengths, batch_first=True,
-                                      enforce_sorted=False)
-        out, (h, c) = self.encoder(packed)
-        out, _ = pad_packed_sequence(out, batch_first=True, total_length=src.shape[1])
-        if self.cfg.bidirectional:  # (2L, B, H/2) -> (L, B, H): directions side by side
-            h, c = (torch.cat([x[0::2], x[1::2]], dim=-1) for x in (h, c))
-        return out, (h.contiguous(), c.contiguous())
-
-    def decode(self, tgt_in: torch.Tensor, state: State, enc_out: torch.Tensor,
-               src_mask: torch.Tensor) -> tuple[torch.Tensor, State, torch.Tensor]:
-        """Logits ``(B, T, V)``, the new state and attention weights ``(B, T, S)``."""
-        dec_out, state = self.decoder(self.drop(self.embed(tgt_in)), state)
-        scores = torch.bmm(self.attn(dec_out), enc_out.transpose(1, 2))
-        scores = scores.masked_fill(~src_mask[:, None, :], float("-inf"))
-        weights = torch.softmax(scores, dim=-1)
-        context = torch.bmm(weights, enc_out)
-        att = self.drop(torch.tanh(self.combine(torch.cat([context, dec_out], dim=-1))))
-        logits = F.linear(att, self.embed.weight, self.out_bias)
-        return logits, state, weights
-
-    def step(self, tok: torch.Tensor, state: State, enc_out: torch.Tensor,
-             src_mask: torch.Tensor) -> tuple[torch.Tensor, State]:
-        """One decoding step for tokens ``(K,)``: logits ``(K, V)`` and the new state.
-
-        The same computation as :meth:`decode` with ``T = 1`` in eval mode, written with
-        plain matrix products: on a CPU this is about twice as fast as calling the LSTM.
-        """
-        inp, hs, cs = self.embed(tok), [], []
-        for layer in range(self.cfg.layers):
-            gates = F.linear(inp, getattr(self.decoder, f"weight_ih_l{layer}"),
-                             getattr(self.decoder, f"bias_ih_l{layer}")) + F.linear(
-                state[0][layer], getattr(self.decoder, f"weight_hh_l{layer}"),
-                getattr(self.decoder, f"bias_hh_l{layer}"))
-            i, f, g, o = gates.chunk(4, dim=-1)
-            c = torch.sigmoid(f) * state[1][layer] + torch.sigmoid(i) * torch.tanh(g)
-            inp = torch.sigmoid(o) * torch.tanh(c)
-            hs.append(inp)
-            cs.append(c)
-        scores = torch.bmm(enc_out, self.attn(inp)[:, :, None])[:, :, 0]
-        weights = torch.softmax(scores.masked_fill(~src_mask, float("-inf")), dim=-1)
-        context = torch.bmm(weights[:, None, :], enc_out)[:, 0]
-        att = torch.tanh(self.combine(torch.cat([context, inp], dim=-1)))
-        return F.linear(att, self.embed.weight, self.out_bias), (torch.stack(hs),
-                                                                 torch.stack(cs))
-
-    def forward(self, batch: Batch) -> torch.Tensor:
-        """Teacher-forced logits ``(B, T, V)`` for ``batch``."""
-        enc_out, state = self.encode(batch.src, batch.src_mask)
-        return self.decode(batch.tgt_in, state, enc_out, batch.src_mask)[0]
-
-    def token_nll(self, batch: Batch) -> tuple[torch.Tensor, int]:
-        """Summed negative log-likelihood of the real reply tokens, and their number."""
-        logits = self(batch)
-        nll = F.cross_entropy(logits.reshape(-1, logits.shape[-1]), batch.tgt_out.reshape(-1),
-                              ignore_index=PAD_ID, reduction="sum")
-        return nll, int(batch.tgt_mask.sum())
 
 
 def save_chat_model(path: Path, net: Seq2Seq, vocab: Vocab, config: dict[str, Any],
@@ -179,8 +88,6 @@ class ChitChatModel:
 
     def generate(self, src_ids: list[int]) -> list[int]:
         """Reply ids for one utterance with the configured decoding method."""
-        from dialogue.chat.decode import beam_search, sample
-
         if self.decode_cfg.method == "sample":
             return sample(self.net, src_ids, self.decode_cfg, self._gen)
         return beam_search(self.net, src_ids, self.decode_cfg)
@@ -189,4 +96,4 @@ class ChitChatModel:
         """The model's reply to ``text`` (never empty)."""
         with torch.inference_mode():
             ids = self.generate(self.encode_text(text))
-        return detokenize(self.vocab.decode(ids)) or FALLBACK
+        return detokenize(self.vocab.decode(ids, skip_unknown=True)) or FALLBACK

@@ -20,6 +20,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import cv2
+import numpy as np
+
 from dialogue.qa.base import Answer
 from dialogue.qa.places import find_place
 from dialogue.qa.text import normalise, strip_frame
@@ -93,9 +96,6 @@ def plan_from_scenario(scenario: Any) -> Household:
 def render_plan(rooms: list[dict[str, Any]], items: list[dict[str, Any]], path: str | Path,
                 mark: str | None = None) -> Path:
     """Draw the household from above (north up) as a PNG, ``mark`` (a name) highlighted."""
-    import cv2
-    import numpy as np
-
     xs = [v for r in rooms for v in r["x"]] + [i["x"] for i in items]
     ys = [v for r in rooms for v in r["y"]] + [i["y"] for i in items]
     x0, y0, x1, y1 = min(xs), min(ys), max(xs), max(ys)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import feedparser
+
 from dialogue.qa.base import Answer
 from dialogue.qa.text import content_words, word_set
 
@@ -16,8 +18,6 @@ MAX_HEADLINES = 3
 
 def read_feed(path: str | Path) -> tuple[list[dict[str, str]], str | None]:
     """The feed's entries (title, link, summary, category) and its link; empty when unreadable."""
-    import feedparser
-
     try:
         data = Path(path).read_bytes()
     except OSError:

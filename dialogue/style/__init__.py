@@ -1,0 +1,1 @@
+"""Mood style transfer: what the robot loads (training tooling in ``training/``)."""

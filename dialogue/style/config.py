@@ -11,7 +11,7 @@ from pathlib import Path
 from pydantic import Field, model_validator
 
 from app.core.config_files import StrictModel, load_model
-from app.core.paths import REPO_ROOT
+from app.core.paths import MODELS_DIR, REPO_ROOT
 
 
 class DataConfig(StrictModel):
@@ -149,3 +149,7 @@ class StyleConfig(StrictModel):
 def load_style_config(path: str | Path | None = None) -> StyleConfig:
     """Load ``app/defaults/style.yaml``, overridden by the YAML file at ``path`` when given."""
     return load_model(StyleConfig, "style.yaml", path)
+
+
+DEFAULT_MODEL_DIR = MODELS_DIR / "style"
+STYLE_FILE, CLASSIFIER_FILE, LM_FILE = "style.pt", "classifier.pt", "lm.pt"

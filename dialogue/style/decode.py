@@ -13,8 +13,9 @@ from __future__ import annotations
 import torch
 
 from dialogue.style.model import StyleTransferModel
-from dialogue.style.training.data import BOS_ID, EOS_ID, PAD_ID, Batch, make_batch
+from textnets.batch import Batch, make_batch
 from textnets.copy import Memory, select
+from textnets.vocab import BOS_ID, EOS_ID, PAD_ID
 
 NEG_INF = float("-inf")
 

@@ -7,7 +7,6 @@ fluency language model). Each stores its vocabulary, its config section and its 
 
 from __future__ import annotations
 
-from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +14,6 @@ from torch import nn
 
 from app.core.checkpoint import atomic_torch_save, read_weights
 from app.core.errors import UserError
-from app.core.paths import MODELS_DIR
 from dialogue.style.config import (
     ClassifierConfig,
     DecodeConfig,
@@ -24,11 +22,9 @@ from dialogue.style.config import (
 )
 from dialogue.style.model import StyleTransferModel
 from dialogue.style.nets import LanguageModel, SentimentClassifier
-from dialogue.style.training.data import Split, Vocab
+from textnets.vocab import Vocab
 
 FORMAT = "companion-style-1"
-DEFAULT_MODEL_DIR = MODELS_DIR / "style"
-STYLE_FILE, CLASSIFIER_FILE, LM_FILE = "style.pt", "classifier.pt", "lm.pt"
 _STOPWORDS_TEXT = (
     "a an the and or but if so of to in on at by for with from as is are was were be been am "
     "it its it 's this that these those there here i me my we our you your he him his she her "
@@ -105,20 +101,3 @@ def load_lm(path: Path) -> tuple[LanguageModel, Vocab, dict]:
     return net, vocab, blob
 
 
-def style_markers(train: Split, vocab: Vocab, ratio: float, min_count: int) -> list[str]:
-    """Words whose frequency differs between the styles by at least ``ratio``.
-
-    With add-one smoothing, ``w`` is a marker when ``p(w | one style) / p(w | other)`` is
-    ``ratio`` or more and it occurs ``min_count`` times. The content check ignores them.
-    """
-    counts = [Counter(w for s in train.of_class(c) for w in s) for c in (0, 1)]
-    totals = [sum(c.values()) or 1 for c in counts]
-    markers = []
-    for w in vocab.itos[4:]:
-        n0, n1 = counts[0][w], counts[1][w]
-        if n0 + n1 < min_count:
-            continue
-        p0, p1 = (n0 + 1) / totals[0], (n1 + 1) / totals[1]
-        if max(p0 / p1, p1 / p0) >= ratio:
-            markers.append(w)
-    return markers

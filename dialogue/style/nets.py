@@ -11,8 +11,12 @@ import torch.nn.functional as F  # noqa: N812
 from torch import nn
 
 from dialogue.style.config import ClassifierConfig, LMConfig
-from dialogue.style.model import N_STYLES, TextCNN, TiedOutput, masked_nll
-from dialogue.style.training.data import PAD_ID, Batch
+from dialogue.style.model import N_STYLES
+from textnets.batch import Batch
+from textnets.functional import masked_nll
+from textnets.generator import TiedOutput
+from textnets.textcnn import TextCNN
+from textnets.vocab import PAD_ID
 
 
 class SentimentClassifier(nn.Module):

@@ -17,16 +17,18 @@ sentence is returned unchanged, so the robot never says something off-topic.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import torch
 
+from app.core.torch_threads import torch_threads
+from dialogue.style.config import DEFAULT_MODEL_DIR, STYLE_FILE
 from dialogue.style.decode import transfer_ids
-from dialogue.style.files import DEFAULT_MODEL_DIR, STOPWORDS, STYLE_FILE, load_transfer
-from dialogue.style.training.data import STYLES, UNK, UNK_ID, Vocab, detokenize, tokenize
+from dialogue.style.files import STOPWORDS, load_transfer
+from dialogue.style.text import STYLES, detokenize, tokenize
+from textnets.vocab import UNK, UNK_ID, Vocab
 
 DEFAULT_STYLE_MODEL = DEFAULT_MODEL_DIR / STYLE_FILE
 _HAS_LETTER = re.compile(r"[a-z]")
@@ -60,18 +62,6 @@ def readable(words: Sequence[str], source: str) -> str:
     text = detokenize(words)
     upper = source.lstrip()[:1].isupper()
     return text[:1].upper() + text[1:] if upper else text
-
-
-@contextmanager
-def torch_threads(n: int | None) -> Iterator[None]:
-    """Run the block with ``n`` torch CPU threads, then restore the previous number."""
-    before = torch.get_num_threads()
-    if n is not None:
-        torch.set_num_threads(n)
-    try:
-        yield
-    finally:
-        torch.set_num_threads(before)
 
 
 class StyleTransfer:

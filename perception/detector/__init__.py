@@ -1,0 +1,1 @@
+"""The person-and-face detector: what the robot loads (tooling in ``training/``)."""

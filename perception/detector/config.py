@@ -8,6 +8,7 @@ from typing import Any, Self
 from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveInt, model_validator
 
 from app.core.config_files import StrictModel, load_model
+from app.core.paths import MODELS_DIR
 
 
 class SplitsConfig(StrictModel):
@@ -102,3 +103,7 @@ class DetectorConfig(StrictModel):
 def load_detector_config(path: str | Path | None = None) -> DetectorConfig:
     """The packaged detector.yaml, with the user file at ``path`` merged over it."""
     return load_model(DetectorConfig, "detector.yaml", path)
+
+
+DEFAULT_DETECTOR = MODELS_DIR / "detector.onnx"  # the robot's runtime file, exported from:
+DEFAULT_TRAINED = MODELS_DIR / "detector.pt"     # the trained ultralytics weights

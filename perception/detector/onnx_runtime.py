@@ -15,6 +15,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import onnxruntime as ort
 
 PAD_VALUE = 114  # ultralytics' letterbox grey
 
@@ -24,8 +25,6 @@ class OnnxYolo:
 
     def __init__(self, path: Path) -> None:
         """Open ``path``; raises whatever onnxruntime raises for an unreadable file."""
-        import onnxruntime as ort
-
         self.session = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
         meta = self.session.get_modelmeta().custom_metadata_map
         self.names: dict[int, str] = ast.literal_eval(meta["names"])

@@ -25,6 +25,7 @@ def ultralytics_module(verbose: bool = False) -> ModuleType:
     os.environ.setdefault("YOLO_VERBOSE", str(verbose).lower())
     os.environ.setdefault("YOLO_CONFIG_DIR",
                           str(Path(tempfile.gettempdir()) / "companion-ultralytics"))
+    # imported here, after the environment above: ultralytics reads it at import time
     import ultralytics
     from ultralytics.utils import SETTINGS, torch_utils
 

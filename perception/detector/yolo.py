@@ -15,12 +15,9 @@ from typing import Protocol
 import numpy as np
 
 from app.core.errors import UserError
-from app.core.paths import MODELS_DIR
-from perception.detector.config import DetectConfig, load_detector_config
+from perception.detector.config import DEFAULT_DETECTOR, DetectConfig, load_detector_config
 from perception.detector.onnx_runtime import OnnxYolo
-
-DEFAULT_DETECTOR = MODELS_DIR / "detector.onnx"  # the robot's runtime file, exported from:
-DEFAULT_TRAINED = MODELS_DIR / "detector.pt"     # the trained ultralytics weights
+from perception.detector.ultralytics_offline import ultralytics_module
 
 
 class DetectorFileError(UserError):
@@ -65,8 +62,6 @@ class UltralyticsYolo:
 
     def __init__(self, path: Path, imgsz: int) -> None:
         """Open ``path``; raises whatever ultralytics raises for an unreadable file."""
-        from perception.detector.ultralytics_offline import ultralytics_module
-
         self.yolo = ultralytics_module().YOLO(str(path), task="detect")
         self.names: dict[int, str] = dict(self.yolo.names)
         self.imgsz = imgsz

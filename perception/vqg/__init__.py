@@ -1,0 +1,1 @@
+"""Visual question generation: what the robot loads (tooling in ``training/``)."""

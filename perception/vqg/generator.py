@@ -25,8 +25,7 @@ import torch
 
 from app.core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
 from app.core.errors import UserError
-from dialogue.style.training.data import Vocab
-from dialogue.style.transfer import torch_threads
+from app.core.torch_threads import torch_threads
 from perception.vqg.config import (
     REPO_ROOT,
     DecodeConfig,
@@ -34,9 +33,10 @@ from perception.vqg.config import (
     VqgConfig,
     load_vqg_config,
 )
+from perception.vqg.frames import prepare_frame
 from perception.vqg.model import VqgModel
-from perception.vqg.training.dataset import prepare_frame
 from perception.vqg.verify import FactVerifier
+from textnets.vocab import Vocab
 
 FORMAT = "companion-vqg-1"
 DEFAULT_VQG_MODEL = REPO_ROOT / "assets" / "models" / "vqg.pt"

@@ -23,9 +23,12 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 from torch import nn
 
-from dialogue.style.model import Generator, TextCNN, gumbel_softmax, masked_nll
-from dialogue.style.training.data import BOS_ID, EOS_ID, PAD_ID, UNK_ID, Batch
 from perception.vqg.config import ModelConfig
+from textnets.batch import Batch
+from textnets.functional import gumbel_softmax, masked_nll
+from textnets.generator import Generator
+from textnets.textcnn import TextCNN
+from textnets.vocab import BOS_ID, EOS_ID, PAD_ID, UNK_ID
 
 
 class ImageEncoder(nn.Module):

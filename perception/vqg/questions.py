@@ -29,8 +29,18 @@ from perception.vqg.grammar import (
     compile_template,
     match,
 )
-from perception.vqg.scene import PALETTE, PARTIES, POSE_WORDS, TOYS, Node, SceneGraph
-from perception.vqg.training.layout import ACTIVITY_MIX, MAIN_SURFACE, ROOM_FURNITURE, SURFACE_MIX
+from perception.vqg.scene import (
+    ACTIVITY_MIX,
+    MAIN_SURFACE,
+    PALETTE,
+    PARTIES,
+    POSE_WORDS,
+    ROOM_FURNITURE,
+    SURFACE_MIX,
+    TOYS,
+    Node,
+    SceneGraph,
+)
 
 VALUE_SLOTS = ("act", "actq", "colour", "num", "occ", "occ_time", "room", "mood")
 NP_SLOTS = ("the_np", "a_np", "nps", "the_nps", "p_the", "p_pl", "p_any")

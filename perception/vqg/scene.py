@@ -131,3 +131,37 @@ class SceneGraph:
 def load_scene(path: str | Path) -> SceneGraph:
     """Read a scene graph written by :func:`perception.vqg.training.data.write_vqg_dataset`."""
     return SceneGraph.from_dict(json.loads(Path(path).read_text(encoding="utf-8")))
+
+
+# what the people of each occasion do (relative weights)
+ACTIVITY_MIX: dict[str, dict[str, float]] = {
+    "birthday_party": {"celebrating": 4, "dancing": 2, "talking": 2, "eating": 2},
+    "dance_party": {"dancing": 7, "talking": 3},
+    "family_dinner": {"eating": 8, "talking": 2},
+    "tea_time": {"eating": 3, "talking": 4, "sitting": 3},
+    "quiet_afternoon": {"sitting": 3, "watching_tv": 3, "reading": 3, "talking": 1},
+    "reading_time": {"reading": 8, "sitting": 2},
+    "playtime": {"playing": 6, "sitting": 2, "talking": 2},
+}
+
+
+# small objects on the surfaces (relative weights)
+SURFACE_MIX: dict[str, dict[str, float]] = {
+    "birthday_party": {"plate": 3, "mug": 3, "present": 2, "tray": 1},
+    "dance_party": {"mug": 6, "tray": 2, "plate": 2},
+    "family_dinner": {"plate": 4, "mug": 4, "tray": 2},
+    "tea_time": {"mug": 5, "plate": 3, "tray": 2},
+    "quiet_afternoon": {"mug": 4, "book": 4, "plate": 1, "tray": 1},
+    "reading_time": {"book": 7, "mug": 3},
+    "playtime": {"duck": 2, "teddy": 2, "ball": 1, "block": 3},
+}
+
+
+MAIN_SURFACE = {"living_room": "coffee_table", "dining_room": "table", "bedroom": "coffee_table",
+                "party_room": "table"}
+
+
+ROOM_FURNITURE = {"living_room": ("sofa", "armchair", "tv", "plant", "shelf"),
+                  "dining_room": ("chair", "shelf", "plant"),
+                  "bedroom": ("bed", "shelf", "chair", "plant"),
+                  "party_room": ("sofa", "chair", "plant")}

@@ -1,1 +1,1 @@
-"""Decision making: the abstract training environment, the Dueling Double DQN and baselines."""
+"""Decision making: the Dueling Double DQN the robot loads (training tooling in ``training/``)."""

@@ -9,11 +9,9 @@ import torch
 
 from app.core.checkpoint import read_weights
 from app.core.errors import UserError
-from app.core.paths import MODELS_DIR
 from app.mind.personality import ACTIONS, MOTIVATIONS
+from app.mind.policy.config import DEFAULT_POLICY
 from app.mind.policy.network import DuelingQNetwork
-
-DEFAULT_POLICY = MODELS_DIR / "policy.pt"
 
 
 class PolicyFileError(UserError):
@@ -28,7 +26,7 @@ class DQNPolicy:
 
     @classmethod
     def load(cls, path: str | Path = DEFAULT_POLICY) -> DQNPolicy:
-        """Load weights written by :func:`app.mind.policy.train.export_policy`."""
+        """Load weights written by :func:`app.mind.policy.training.train.export_policy`."""
         blob = read_weights(path, PolicyFileError, "train one with `companion train policy`")
         try:
             net = DuelingQNetwork(len(MOTIVATIONS), len(ACTIONS), **blob["network"])

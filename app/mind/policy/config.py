@@ -8,6 +8,7 @@ from typing import Annotated, Self
 from pydantic import Field, model_validator
 
 from app.core.config_files import StrictModel, load_model
+from app.core.paths import MODELS_DIR
 from app.mind.personality import Action, Motivation
 
 DriveLevel = Annotated[float, Field(ge=0, le=1)]
@@ -132,3 +133,6 @@ class PolicyConfig(StrictModel):
 def load_policy_config(path: str | Path | None = None) -> PolicyConfig:
     """Load the default policy config, overridden by the YAML file at ``path`` when given."""
     return load_model(PolicyConfig, "policy.yaml", path)
+
+
+DEFAULT_POLICY = MODELS_DIR / "policy.pt"

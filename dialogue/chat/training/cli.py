@@ -1,5 +1,8 @@
 """Command line of the chit-chat bot: ``companion train chat``, ``companion eval chat`` and
-``chat_metrics`` (merged into ``companion eval dialogue``)."""
+``chat_metrics`` (merged into ``companion eval dialogue``).
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 

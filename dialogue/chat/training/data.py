@@ -19,38 +19,26 @@ from __future__ import annotations
 
 import re
 from collections import Counter
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
-import torch
 import yaml
 
 from app.core.errors import UserError
 from dialogue.chat.config import ChatDataConfig
+from dialogue.chat.text import Pair, tokenize
+from textnets.vocab import UNK
 
-PAD, BOS, EOS, UNK = "<pad>", "<bos>", "<eos>", "<unk>"
-SPECIALS = (PAD, BOS, EOS, UNK)
-PAD_ID, BOS_ID, EOS_ID, UNK_ID = range(4)
 SPLITS = ("train", "valid", "test")
 FUNC = re.compile(r"_func_val_\S*")
-SLOT = re.compile(r"^_[a-z0-9]+_$")
-_NT = re.compile(r"(\w)n't\b")
-_CLITIC = re.compile(r"(\w)'(s|m|re|ve|ll|d)\b")
-_TOKEN = re.compile(r"<unk>|n't\b|'(?:s|m|re|ve|ll|d)\b|\w+(?:[-.]\w+)*|[^\w\s]")
-_QUOTES = str.maketrans({"\u2019": "'", "\u2018": "'", "\u201c": '"', "\u201d": '"'})
-_GLUE_LEFT = {".", ",", "!", "?", ";", ":", ")", "%", "n't", "'s", "'m", "'re", "'ve", "'ll",
-              "'d"}
 
 
 class ChatDataError(UserError):
     """The chit-chat data is missing or unreadable."""
-
-
-Pair = tuple[tuple[str, ...], tuple[str, ...]]
 
 
 @dataclass
@@ -67,28 +55,6 @@ class ChatData:
 
     splits: dict[str, list[Pair]]
     counts: dict[str, dict[str, int]]
-
-
-def tokenize(text: str) -> list[str]:
-    """Lower-case PTB-style tokens; ``_slot_`` placeholders become ``<unk>``."""
-    s = text.translate(_QUOTES).replace("``", '"').replace("''", '"').lower()
-    s = _CLITIC.sub(r"\1 '\2", _NT.sub(r"\1 n't", s))
-    return [UNK if SLOT.match(t) else t for t in _TOKEN.findall(s)]
-
-
-def detokenize(tokens: Sequence[str]) -> str:
-    """Readable text from tokens: punctuation and clitics glued, sentences capitalised."""
-    out, cap = "", True
-    for t in tokens:
-        word = t.upper() if t == "i" else t
-        if cap and word[:1].isalpha():
-            word, cap = word[:1].upper() + word[1:], False
-        if not out or out.endswith(("(", "$")) or t in _GLUE_LEFT:
-            out += word
-        else:
-            out += " " + word
-        cap = cap or t in (".", "!", "?")
-    return out
 
 
 def read_papaya(folder: Path) -> list[Conversation]:
@@ -211,70 +177,3 @@ def _split(kept: list[tuple[int, Pair]], n_convs: int, cfg: ChatDataConfig,
     return {k: splits[k] for k in SPLITS}
 
 
-class Vocab:
-    """Token <-> id; ids 0-3 are ``<pad> <bos> <eos> <unk>``."""
-
-    def __init__(self, itos: Sequence[str]) -> None:
-        if tuple(itos[:4]) != SPECIALS:
-            raise ValueError("a vocabulary starts with <pad> <bos> <eos> <unk>")
-        self.itos = list(itos)
-        self.stoi = {t: i for i, t in enumerate(self.itos)}
-
-    @classmethod
-    def build(cls, pairs: Sequence[Pair], min_count: int) -> Vocab:
-        """Tokens seen at least ``min_count`` times in the pairs (most frequent first)."""
-        counts = Counter(t for src, tgt in pairs for t in (*src, *tgt))
-        words = sorted((t for t, n in counts.items() if n >= min_count and t not in SPECIALS),
-                       key=lambda t: (-counts[t], t))
-        return cls([*SPECIALS, *words])
-
-    def __len__(self) -> int:
-        return len(self.itos)
-
-    def encode(self, tokens: Sequence[str]) -> list[int]:
-        """Ids of ``tokens``; unknown tokens map to ``<unk>``."""
-        return [self.stoi.get(t, UNK_ID) for t in tokens]
-
-    def decode(self, ids: Sequence[int]) -> list[str]:
-        """Tokens of ``ids``, stopping at ``<eos>`` and skipping the other specials."""
-        out = []
-        for i in ids:
-            if i == EOS_ID:
-                break
-            if i > UNK_ID:
-                out.append(self.itos[i])
-        return out
-
-
-@dataclass(frozen=True)
-class Batch:
-    """Padded tensors of one batch; masks are True on real tokens."""
-
-    src: torch.Tensor  # (B, S) utterance ids
-    src_mask: torch.Tensor  # (B, S)
-    tgt_in: torch.Tensor  # (B, T) <bos> + reply
-    tgt_out: torch.Tensor  # (B, T) reply + <eos>
-    tgt_mask: torch.Tensor  # (B, T)
-
-
-def _pad(rows: Sequence[Sequence[int]]) -> torch.Tensor:
-    out = torch.full((len(rows), max(len(r) for r in rows)), PAD_ID, dtype=torch.long)
-    for i, r in enumerate(rows):
-        out[i, : len(r)] = torch.tensor(r, dtype=torch.long)
-    return out
-
-
-def make_batch(pairs: Sequence[Pair], vocab: Vocab) -> Batch:
-    """One padded batch of ``pairs`` (empty utterances get a single ``<unk>``)."""
-    src = _pad([vocab.encode(s) or [UNK_ID] for s, _ in pairs])
-    tgt = [vocab.encode(t) for _, t in pairs]
-    tgt_in, tgt_out = _pad([[BOS_ID, *t] for t in tgt]), _pad([[*t, EOS_ID] for t in tgt])
-    return Batch(src, src != PAD_ID, tgt_in, tgt_out, tgt_out != PAD_ID)
-
-
-def batches(pairs: Sequence[Pair], vocab: Vocab, batch_size: int,
-            rng: np.random.Generator | None = None) -> Iterator[Batch]:
-    """Batches over ``pairs``, shuffled when ``rng`` is given (the last one may be short)."""
-    order = rng.permutation(len(pairs)) if rng is not None else np.arange(len(pairs))
-    for start in range(0, len(order), batch_size):
-        yield make_batch([pairs[i] for i in order[start:start + batch_size]], vocab)

@@ -21,7 +21,12 @@ from typing import Any
 
 import torch
 
-from dialogue.chat.training.data import EOS_ID, Pair, Vocab, batches, detokenize, tokenize
+from dialogue.chat.batch import batches
+from dialogue.chat.config import ChatDataConfig
+from dialogue.chat.model import ChitChatModel
+from dialogue.chat.text import Pair, detokenize, tokenize
+from dialogue.chat.training.data import load_chat_data
+from textnets.vocab import EOS_ID, Vocab
 
 PROMPTS = ("Hello!", "How are you?", "What is your name?", "Do you like music?",
            "Tell me a joke.", "I feel sad today.", "What do you do for fun?", "Good night!")
@@ -59,7 +64,6 @@ def distinct_n(replies: Sequence[Sequence[str]], n: int) -> float:
 
 def examples_table(rows: Sequence[tuple[str, str, str]]) -> str:
     """A markdown table of ``(person, reference, robot)`` exchanges."""
-
     def cell(s: str) -> str:
         return s.replace("|", "\\|") or "—"
 
@@ -97,10 +101,6 @@ def evaluate(model: Any, train: Sequence[Pair], test: Sequence[Pair],
 
 def evaluate_file(path: str | Path, n_examples: int = 12) -> dict[str, Any]:
     """Load a model file, rebuild its data split from the stored config and evaluate it."""
-    from dialogue.chat.config import ChatDataConfig
-    from dialogue.chat.model import ChitChatModel
-    from dialogue.chat.training.data import load_chat_data
-
     model = ChitChatModel.load(path)
     data = load_chat_data(ChatDataConfig(**model.config["data"]))
     threads = torch.get_num_threads()

@@ -12,19 +12,20 @@ from __future__ import annotations
 import csv
 import json
 import math
-import time
 from pathlib import Path
 
 import numpy as np
 import torch
-import yaml
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_torch_save, claim_run_folder
+from app.core.checkpoint import TrainingFolder
+from dialogue.chat.batch import batches
 from dialogue.chat.config import ChatConfig
-from dialogue.chat.model import Seq2Seq, save_chat_model
-from dialogue.chat.training.data import ChatDataError, Vocab, batches, load_chat_data
+from dialogue.chat.model import save_chat_model
+from dialogue.chat.seq2seq import Seq2Seq
+from dialogue.chat.training.data import ChatDataError, load_chat_data
 from dialogue.chat.training.evaluate import perplexity
+from textnets.vocab import Vocab
 
 TRAIN_FIELDS = ["epoch", "step", "loss", "perplexity", "lr", "wall_s"]
 EVAL_FIELDS = ["epoch", "step", "train_perplexity", "valid_perplexity", "best", "lr", "wall_s"]
@@ -39,58 +40,51 @@ def count_parameters(net: torch.nn.Module) -> int:
 def train(cfg: ChatConfig, out_dir: Path, resume: bool = False, progress: bool = True) -> dict:
     """Train into ``out_dir``; returns a summary with the best validation perplexity."""
     tc = cfg.train
-    ckpt_path, model_path = out_dir / "checkpoint.pt", out_dir / MODEL_FILE
-    log_path, eval_path = out_dir / "train_log.csv", out_dir / "eval_log.csv"
-    claim_run_folder(out_dir, ckpt_path, resume)
+    model_path, eval_path = out_dir / MODEL_FILE, out_dir / "eval_log.csv"
+    folder = TrainingFolder(out_dir, resume)
     torch.set_num_threads(tc.threads)
     torch.manual_seed(tc.seed)
     data = load_chat_data(cfg.data)
     train_pairs, valid_pairs = data.splits["train"], data.splits["valid"]
-    vocab = Vocab.build(train_pairs, cfg.data.min_count)
+    vocab = Vocab.build([side for pair in train_pairs for side in pair], cfg.data.min_count)
     net = Seq2Seq(len(vocab), cfg.model)
     optimizer = torch.optim.Adam(net.parameters(), lr=tc.learning_rate,
                                  weight_decay=tc.weight_decay)
     scheduler = torch.optim.lr_scheduler.ReduceLROnPlateau(
         optimizer, mode="min", factor=tc.lr_decay, patience=tc.lr_patience)
     epoch = step = position = bad_epochs = 0
-    best, wall_offset = math.inf, 0.0
+    best = math.inf
     plain_cfg = cfg.model_dump(mode="json")
 
-    if ckpt_path.exists():
-        state = torch.load(ckpt_path, map_location="cpu", weights_only=True)
+    if folder.state is not None:
+        state = folder.state
         if state["vocab"] != vocab.itos:
-            raise ChatDataError(f"{ckpt_path}: its vocabulary differs from the data now; "
+            raise ChatDataError(f"{folder.ckpt_path}: its vocabulary differs from the data now; "
                                 "the data or data config changed since it was written")
         net.load_state_dict(state["net"])
         optimizer.load_state_dict(state["optimizer"])
         scheduler.load_state_dict(state["scheduler"])
         torch.set_rng_state(state["torch_rng"])
         epoch, step, position, bad_epochs = state["counters"]
-        best, wall_offset = state["best"], state["wall_s"]
+        best = state["best"]
     else:
-        (out_dir / "resolved_config.yaml").write_text(yaml.safe_dump(plain_cfg, sort_keys=False))
+        folder.write_config(plain_cfg)
         (out_dir / "data_counts.json").write_text(json.dumps(data.counts, indent=2))
-        for path, fields in ((log_path, TRAIN_FIELDS), (eval_path, EVAL_FIELDS)):
-            with path.open("w", newline="") as fh:
-                csv.writer(fh).writerow(fields)
+    folder.open_log(eval_path.name, EVAL_FIELDS).close()
 
-    start = time.perf_counter()
     rng_at_position = torch.get_rng_state()  # the RNG as it was when `position` was reached
-
-    def wall() -> float:
-        return wall_offset + time.perf_counter() - start
+    wall = folder.wall
 
     def save_checkpoint() -> None:
-        atomic_torch_save({"net": net.state_dict(), "optimizer": optimizer.state_dict(),
-                           "scheduler": scheduler.state_dict(), "vocab": vocab.itos,
-                           "torch_rng": rng_at_position,
-                           "counters": (epoch, step, position, bad_epochs), "best": best,
-                           "wall_s": wall()}, ckpt_path)
+        folder.save({"net": net.state_dict(), "optimizer": optimizer.state_dict(),
+                     "scheduler": scheduler.state_dict(), "vocab": vocab.itos,
+                     "torch_rng": rng_at_position,
+                     "counters": (epoch, step, position, bad_epochs), "best": best})
 
     per_epoch = math.ceil(len(train_pairs) / tc.batch_size)
     bar = tqdm(total=tc.epochs * per_epoch, initial=epoch * per_epoch + position,
                disable=not progress, desc="train chat", unit="batch")
-    log_file = log_path.open("a", newline="")
+    log_file = folder.open_log("train_log.csv", TRAIN_FIELDS)
     log = csv.writer(log_file)
     window = [0.0, 0]  # summed nll and tokens since the last log row
     try:

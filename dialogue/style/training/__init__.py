@@ -1,0 +1,1 @@
+"""Data, training and evaluation of the style transfer (not loaded by the robot)."""

@@ -1,4 +1,7 @@
-"""``companion train style``, ``companion eval style`` and ``companion style``."""
+"""``companion train style``, ``companion eval style`` and ``companion style``.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +11,7 @@ import sys
 from pathlib import Path
 
 from app.core.cli_args import integer
-from dialogue.style.files import CLASSIFIER_FILE, DEFAULT_MODEL_DIR, LM_FILE, STYLE_FILE
+from dialogue.style.config import CLASSIFIER_FILE, DEFAULT_MODEL_DIR, LM_FILE, STYLE_FILE
 
 MODEL_FILES = (STYLE_FILE, CLASSIFIER_FILE, LM_FILE)
 
@@ -99,8 +102,8 @@ def run_train(args: argparse.Namespace) -> int:
 
 def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval style``."""
+    from app.core.torch_threads import torch_threads
     from dialogue.style.training.evaluate import evaluate, examples_markdown, format_summary
-    from dialogue.style.transfer import torch_threads
 
     with torch_threads(args.threads):
         result = evaluate(args.model_dir, args.split, args.limit, args.beam,

@@ -16,9 +16,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from dialogue.style.config import DataConfig
+from dialogue.style.config import CLASSIFIER_FILE, LM_FILE, STYLE_FILE, DataConfig
 from dialogue.style.decode import transfer_ids
-from dialogue.style.files import CLASSIFIER_FILE, LM_FILE, STYLE_FILE, load_classifier, load_lm
+from dialogue.style.files import load_classifier, load_lm
 from dialogue.style.training.data import load_splits
 from dialogue.style.training.metrics import accuracy, perplexity, self_bleu
 from dialogue.style.training.train import balanced_subset

@@ -12,8 +12,10 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 
 from dialogue.style.config import LossWeights
-from dialogue.style.model import FAKE, StyleTransferModel, masked_nll
-from dialogue.style.training.data import BOS_ID, Batch
+from dialogue.style.model import FAKE, StyleTransferModel
+from textnets.batch import Batch
+from textnets.functional import masked_nll
+from textnets.vocab import BOS_ID
 
 
 def pretrain_losses(model: StyleTransferModel, batch: Batch) -> dict[str, torch.Tensor]:
@@ -93,6 +95,3 @@ def discriminator_loss(model: StyleTransferModel, batch: Batch, h_real: torch.Te
     return F.cross_entropy(logits, target), acc
 
 
-def temperature(step: int, start: float, decay: float, every: int, floor: float) -> float:
-    """Gumbel-softmax temperature ``start * decay ** (step // every)``, at least ``floor``."""
-    return max(floor, start * decay ** (step // every))

@@ -12,10 +12,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import sacrebleu
 import torch
 
 from dialogue.style.nets import LanguageModel, SentimentClassifier
-from dialogue.style.training.data import Vocab, iterate_batches
+from textnets.batch import iterate_batches
+from textnets.vocab import Vocab
 
 
 @torch.no_grad()
@@ -58,8 +60,6 @@ def perplexity(lm: LanguageModel, vocab: Vocab, sentences: Sequence[Sequence[str
 
 def self_bleu(outputs: Sequence[Sequence[str]], inputs: Sequence[Sequence[str]]) -> float:
     """Corpus BLEU (0-100) of the outputs with their own inputs as the single reference."""
-    import sacrebleu
-
     hyps = [" ".join(s) for s in outputs]
     refs = [" ".join(s) for s in inputs]
     return float(sacrebleu.corpus_bleu(hyps, [refs], force=True).score)

@@ -24,32 +24,20 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import torch
-import yaml
 
 from app.core.checkpoint import atomic_copy
-from dialogue.style.config import StyleConfig
+from dialogue.style.config import CLASSIFIER_FILE, LM_FILE, STYLE_FILE, StyleConfig
 from dialogue.style.decode import transfer_ids
-from dialogue.style.files import (
-    CLASSIFIER_FILE,
-    LM_FILE,
-    STYLE_FILE,
-    StyleModelError,
-    load_classifier,
-    load_lm,
-    save_model,
-    style_markers,
-)
+from dialogue.style.files import StyleModelError, load_classifier, load_lm, save_model
 from dialogue.style.model import StyleTransferModel
 from dialogue.style.nets import LanguageModel, SentimentClassifier
-from dialogue.style.training.data import BatchSampler, Split, Vocab, load_splits
-from dialogue.style.training.losses import (
-    discriminator_loss,
-    pretrain_losses,
-    temperature,
-    transfer_losses,
-)
+from dialogue.style.training.data import Split, load_splits, style_markers
+from dialogue.style.training.losses import discriminator_loss, pretrain_losses, transfer_losses
 from dialogue.style.training.metrics import accuracy, perplexity, self_bleu
+from textnets.batch import BatchSampler
+from textnets.functional import temperature
 from textnets.loop import Run
+from textnets.vocab import Vocab
 
 PHASES = ("classifier", "lm", "pretrain", "reconstruct", "adversarial")
 PER_SENTENCE = {"lm_enc", "lm_gen", "rec", "cycle"}  # logged per word
@@ -128,9 +116,8 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
                                cfg.model.mask_min_count)
         nets["style"].set_masked([data.vocab.stoi[w] for w in hidden])
     run = Run(cfg, out_dir, nets, resume, progress)
-    if run.state is None and not run.done:
-        (out_dir / "resolved_config.yaml").write_text(
-            yaml.safe_dump(cfg.model_dump(mode="json"), sort_keys=False))
+    if run.folder.state is None:
+        run.folder.write_config(cfg.model_dump(mode="json"))
     summary_path = out_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     summary.update({"vocab": v, "sentences": {k: len(s.labels) for k, s in data.splits.items()}})
@@ -259,12 +246,9 @@ def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
     extra: dict = {"best": -1.0, "best_step": -1, "best_acc": 0.0, "best_bleu": 0.0}
     valid_log = run.out_dir / "valid_log.csv"
     resumed = run.state["step"] if run.state and run.state["phase"] == "adversarial" else 0
-    keep = []  # on resume, the validations up to the checkpoint
-    if resumed and valid_log.exists():
-        with valid_log.open(newline="") as fh:
-            keep = [r for r in list(csv.reader(fh))[1:] if r and int(r[0]) <= resumed]
-    with valid_log.open("w", newline="") as fh:
-        csv.writer(fh).writerows([VALID_FIELDS, *keep])
+    # on resume, the validations up to the checkpoint stay
+    run.folder.open_log(valid_log.name, VALID_FIELDS,
+                        keep=lambda row: resumed > 0 and int(row[0]) <= resumed).close()
 
     def step(i: int) -> dict[str, float]:
         model.train()

@@ -1,0 +1,1 @@
+"""The detector's rendered data set, training, export and evaluation (not loaded by the robot)."""

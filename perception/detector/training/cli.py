@@ -1,4 +1,7 @@
-"""`companion data detector`: render the person-and-face detector's data set."""
+"""`companion data detector`: render the person-and-face detector's data set.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 
@@ -79,7 +82,7 @@ def run_train(args: argparse.Namespace) -> int:
 
 def add_export(sub: argparse._SubParsersAction) -> None:
     """Register ``export detector``."""
-    from perception.detector.yolo import DEFAULT_DETECTOR, DEFAULT_TRAINED
+    from perception.detector.config import DEFAULT_DETECTOR, DEFAULT_TRAINED
 
     p = sub.add_parser("detector", help="export YOLO weights to the ONNX file the robot runs",
                        description="Export ultralytics YOLO weights to an ONNX graph with the "

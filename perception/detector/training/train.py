@@ -38,9 +38,7 @@ def train_detector(cfg: TrainConfig, data: Path, out: Path, resume: bool = False
     Returns the best weights' path."""
     ultralytics = ultralytics_module(verbose=True)
     if cfg.threads:
-        from ultralytics.utils import torch_utils
-
-        torch_utils.NUM_THREADS = cfg.threads
+        ultralytics.utils.torch_utils.NUM_THREADS = cfg.threads
     yolo = ultralytics.YOLO
     out = out.resolve()
     last = out / "weights" / "last.pt"

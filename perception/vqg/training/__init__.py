@@ -1,0 +1,1 @@
+"""The VQG data set renderer, training, evaluation and ablations (not loaded by the robot)."""

@@ -102,7 +102,8 @@ def _config(args: argparse.Namespace):
 
 def run_data(args: argparse.Namespace) -> int:
     """Handler of ``companion data vqg``."""
-    from perception.vqg.training.data import load_vqg_data_config, write_vqg_dataset
+    from perception.vqg.training.data import write_vqg_dataset
+    from perception.vqg.training.data_config import load_vqg_data_config
 
     cfg = load_vqg_data_config(args.config)
     if args.seed is not None:
@@ -134,7 +135,8 @@ def run_train(args: argparse.Namespace) -> int:
 
 def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval vqg``."""
-    from perception.vqg.training.evaluate import evaluate, format_table, run_ablations
+    from perception.vqg.training.ablations import format_table, run_ablations
+    from perception.vqg.training.evaluate import evaluate
 
     cfg = _config(args)
     images = args.images or cfg.eval.images

@@ -17,84 +17,15 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from pydantic import Field, NonNegativeInt, PositiveInt
+from tqdm import tqdm
 
 from app.core.checkpoint import atomic_write_bytes
-from app.core.config_files import StrictModel, load_model
 from perception.detector.training.data import encode_png
 from perception.vqg.scene import SceneGraph, load_scene
+from perception.vqg.training.data_config import SPLITS, VqgDataConfig, load_vqg_data_config
 from perception.vqg.training.facts import generate_questions
 from perception.vqg.training.layout import sample_plan
 from perception.vqg.training.render import VqgRenderer
-
-SPLITS = ("train", "val", "test")
-Span = tuple[float, float]
-Count = tuple[NonNegativeInt, NonNegativeInt]
-
-
-class SceneConfig(StrictModel):
-    """What one scene holds and how it is lit (ranges are inclusive ``[lo, hi]``)."""
-
-    width: PositiveInt
-    height: PositiveInt
-    people: Count
-    extra_furniture: Count
-    surface_objects: Count
-    floor_objects: Count
-    balloons: Count
-    candles: Count
-    lit_fraction: float = Field(ge=0.0, le=1.0)
-    person_height: Span
-    size_jitter: float = Field(ge=0.0, lt=0.5)
-    table_distance: Span
-    head_pitch: Span
-    depth: Span
-    half_width: Span
-    ambient: Span
-    diffuse: Span
-    specular: Span
-    shadow_fraction: float = Field(ge=0.0, le=1.0)
-
-
-class MinPixels(StrictModel):
-    """Fewest visible mask pixels for a node to stay in the graph, per category."""
-
-    object: PositiveInt
-    candle: PositiveInt
-    furniture: PositiveInt
-    person: PositiveInt
-
-
-class VisibilityConfig(StrictModel):
-    """The visibility rule and the ``near`` relation."""
-
-    min_pixels: MinPixels
-    near_m: float = Field(gt=0.0)
-
-
-class QuestionConfig(StrictModel):
-    """How many questions each image gets."""
-
-    max_frames: PositiveInt
-    paraphrases: PositiveInt
-    max_questions: PositiveInt
-    fixed_wording: bool
-
-
-class VqgDataConfig(StrictModel):
-    """Schema of ``app/defaults/vqg_data.yaml``."""
-
-    splits: dict[str, NonNegativeInt]
-    seed: NonNegativeInt
-    examples: NonNegativeInt
-    scene: SceneConfig
-    visibility: VisibilityConfig
-    questions: QuestionConfig
-
-
-def load_vqg_data_config(path: str | Path | None = None) -> VqgDataConfig:
-    """The packaged vqg_data.yaml, with the user file at ``path`` merged over it."""
-    return load_model(VqgDataConfig, "vqg_data.yaml", path)
 
 
 def make_renderer(cfg: VqgDataConfig) -> VqgRenderer:
@@ -129,8 +60,6 @@ def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
     """Render ``splits`` (split name -> frames) into ``out``; return the frames rendered now.
 
     ``progress`` is True for a tqdm bar, False for none, or a callback given 1 per frame."""
-    from tqdm import tqdm
-
     out = Path(out)
     bar = tqdm(total=sum(splits.values()), unit="frame", disable=progress is not True)
     tick = progress if callable(progress) else bar.update

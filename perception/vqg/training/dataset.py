@@ -16,12 +16,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
-import numpy as np
 import torch
 
 from app.core.checkpoint import atomic_torch_save
 from app.core.errors import UserError
-from dialogue.style.training.data import Vocab
+from perception.vqg.frames import prepare_frame
+from textnets.vocab import Vocab
 
 SPLITS = ("train", "val", "test")
 
@@ -69,15 +69,6 @@ def read_questions(root: Path, split: str) -> tuple[list[str], list[list[list[st
         except (ValueError, KeyError, TypeError) as exc:
             raise VqgDataError(f"{path}:{n}: not a question record ({exc})") from None
     return ids, questions
-
-
-def prepare_frame(rgb: np.ndarray, width: int, height: int) -> torch.Tensor:
-    """An RGB ``(H, W, 3)`` uint8 frame as the model's ``(3, height, width)`` uint8 input."""
-    if rgb.ndim != 3 or rgb.shape[2] != 3:
-        raise ValueError(f"expected an RGB frame (H, W, 3), got shape {rgb.shape}")
-    small = cv2.resize(np.ascontiguousarray(rgb[..., :3], dtype=np.uint8), (width, height),
-                       interpolation=cv2.INTER_AREA)
-    return torch.from_numpy(small).permute(2, 0, 1).contiguous()
 
 
 def read_image(path: Path, width: int, height: int) -> torch.Tensor:

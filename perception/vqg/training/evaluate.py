@@ -33,7 +33,6 @@ import numpy as np
 import sacrebleu
 import torch
 
-from dialogue.style.training.data import Vocab
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgQuestionGenerator, save_vqg
 from perception.vqg.model import VqgModel
@@ -41,6 +40,7 @@ from perception.vqg.questions import frame_key, is_grounded, is_on_topic, parse_
 from perception.vqg.scene import SceneGraph, load_scene
 from perception.vqg.training.dataset import VqgDataError, read_image, read_questions
 from textnets.loop import Run
+from textnets.vocab import Vocab
 
 MODEL_FILE = "vqg.pt"
 METRICS = ("distinct_per_image", "dm", "ri", "rs")
@@ -203,41 +203,3 @@ def _selected(row: dict[str, Any]) -> dict[str, Any]:
             **{k: float(row[k]) for k in METRICS}}
 
 
-def scaled(cfg: VqgConfig, scale: float) -> VqgConfig:
-    """``cfg`` with every phase (and the KL warm-up) shortened to ``scale`` of its steps."""
-    tc = cfg.train
-    update = {k: round(getattr(tc, k) * scale)
-              for k in ("image_steps", "vae_steps", "adversarial_steps", "kl_warmup_steps")}
-    return cfg.model_copy(update={"train": tc.model_copy(update=update)})
-
-
-def run_ablations(cfg: VqgConfig, out_root: Path, progress: bool,
-                  image_from: Path | None = None) -> list[dict[str, Any]]:
-    """Train the full model and each ablation with the same shortened schedule
-    (``eval.ablation_scale``) into ``out_root/<name>`` (resumable), evaluate each.
-
-    Without ``image_from`` the full run pre-trains E_I and the ablations reuse it (no
-    ablation changes E_I); with it, every run reuses that ``image_encoder.pt``."""
-    from perception.vqg.config import ABLATIONS
-    from perception.vqg.training.train import IMAGE_FILE, train
-
-    rows = []
-    for name in ("full", *ABLATIONS):
-        c = scaled(cfg.ablated(None if name == "full" else name), cfg.eval.ablation_scale)
-        out = out_root / name
-        train(c, out, resume=(out / "checkpoint.pt").exists(), progress=progress,
-              image_from=image_from)
-        image_from = image_from or out / IMAGE_FILE
-        m = evaluate(out / MODEL_FILE, c, cfg.eval.images, cfg.eval.samples)
-        rows.append({"model": name, **{k: m[k] for k in (*METRICS, "bleu", "latency_ms")}})
-    return rows
-
-
-def format_table(rows: list[dict[str, Any]]) -> str:
-    """A Markdown table of metric rows."""
-    keys = list(rows[0])
-    lines = ["| " + " | ".join(keys) + " |", "|" + " --- |" * len(keys)]
-    for r in rows:
-        lines.append("| " + " | ".join(f"{v:.3f}" if isinstance(v, float) else str(v)
-                                       for v in r.values()) + " |")
-    return "\n".join(lines)

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pybullet as p
@@ -27,10 +26,8 @@ from app.sim.world import URDF_OBJECTS, furniture_parts, object_xml
 from perception.detector.config import ImageConfig, load_detector_config
 from perception.detector.training.data import DetectorScene, room_parts
 from perception.vqg.scene import PALETTE, Node, SceneGraph
+from perception.vqg.training.data_config import VisibilityConfig
 from perception.vqg.training.layout import Plan
-
-if TYPE_CHECKING:
-    from perception.vqg.training.data import VisibilityConfig
 
 CANDLE_COLOURS = ("blue", "yellow")  # app.sim.world paints candles blue and yellow in turn
 PRIMITIVES = ("mug", "plate", "book", "ball", "cake")

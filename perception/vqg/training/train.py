@@ -12,9 +12,9 @@
    ``generator_steps_per_disc`` steps L_2 = L_D1 + L_D2 for D1 and D2 (eqs. 3.17-3.18).
 
 The Gumbel temperature anneals over the last two phases. Every ``eval_every`` steps of
-phases 2 and 3 the model is validated with the programmatic metrics (:mod:`vqg_eval`) and the
-best one is exported to ``vqg.pt``. Checkpoints, CSV logs and resume come from
-:class:`textnets.loop.Run`.
+phases 2 and 3 the model is validated with the programmatic metrics
+(:mod:`perception.vqg.training.evaluate`) and the best one is exported to ``vqg.pt``.
+Checkpoints, CSV logs and resume come from :class:`textnets.loop.Run`.
 """
 
 from __future__ import annotations
@@ -26,11 +26,8 @@ from pathlib import Path
 
 import torch
 import torch.nn.functional as F  # noqa: N812
-import yaml
 
 from app.core.checkpoint import atomic_torch_save, read_weights
-from dialogue.style.training.data import Batch, BatchSampler, Vocab
-from dialogue.style.training.losses import temperature
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgModelError
 from perception.vqg.model import (
@@ -45,7 +42,10 @@ from perception.vqg.training.dataset import SplitData, build_vocab, load_split
 from perception.vqg.training.evaluate import Selector, load_items
 from perception.vqg.training.facts import facts
 from perception.vqg.verify import verifier_from_pretraining
+from textnets.batch import Batch, BatchSampler
+from textnets.functional import temperature
 from textnets.loop import Run
+from textnets.vocab import Vocab
 
 PHASES = ("image", "vae", "adversarial")
 IMAGE_FILE = "image_encoder.pt"  # E_I after pre-training, reusable by other runs
@@ -141,9 +141,8 @@ def train(cfg: VqgConfig, out_dir: Path, resume: bool = False, progress: bool = 
     model = VqgModel(len(data.vocab), cfg.model)
     head = torch.nn.Linear(cfg.model.feature_dim, data.image_targets["train"].shape[1])
     run = Run(cfg, out_dir, {"vqg": model, "image_head": head}, resume, progress, name="vqg")
-    if run.state is None and not run.done:
-        (out_dir / "resolved_config.yaml").write_text(
-            yaml.safe_dump(cfg.model_dump(mode="json"), sort_keys=False))
+    if run.folder.state is None:
+        run.folder.write_config(cfg.model_dump(mode="json"))
     summary_path = out_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     summary.update({"vocab": len(data.vocab), "questions": len(data.seqs),

@@ -9,7 +9,7 @@ import numpy as np
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import ACTIONS, DRIVES
 from app.mind.policy.config import EnvConfig
-from app.mind.policy.env import Trace, VecHomeostasisEnv
+from app.mind.policy.training.env import Trace, VecHomeostasisEnv
 
 PolicyFn = Callable[[np.ndarray], np.ndarray]
 

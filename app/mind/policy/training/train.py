@@ -12,25 +12,23 @@ from __future__ import annotations
 import copy
 import csv
 import json
-import time
 from pathlib import Path
 
 import numpy as np
 import torch
 import torch.nn.functional as F  # noqa: N812
-import yaml
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_torch_save, claim_run_folder
+from app.core.checkpoint import TrainingFolder, atomic_torch_save
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import ACTIONS, MOTIVATIONS, Personality
 from app.mind.policy.agent import DQNPolicy, PolicyFileError
 from app.mind.policy.config import PolicyConfig, TrainConfig
-from app.mind.policy.demo import collect_demonstrations, margin_loss
-from app.mind.policy.env import Decisions, VecHomeostasisEnv
-from app.mind.policy.evaluate import run_episodes, summarise
 from app.mind.policy.network import DuelingQNetwork
-from app.mind.policy.replay import NStepWriter, ReplayBuffer
+from app.mind.policy.training.demo import collect_demonstrations, margin_loss
+from app.mind.policy.training.env import Decisions, VecHomeostasisEnv
+from app.mind.policy.training.evaluate import run_episodes, summarise
+from app.mind.policy.training.replay import NStepWriter, ReplayBuffer
 
 LOG_FIELDS = ["transitions", "updates", "episode", "return", "rsr", "epsilon", "wall_s"]
 EVAL_FIELDS = ["transitions", "updates", "rsr", "mean_reward", "best", "wall_s"]
@@ -71,9 +69,9 @@ def dqn_update(q: DuelingQNetwork, target: DuelingQNetwork, optimizer: torch.opt
                demo_weight: float = 0.0, demo_margin: float = 0.0) -> float:
     """One gradient step on (y - Q(s, a))^2 with the Double-DQN target y, bootstrapped with
     each transition's stored discount (one action's, or n actions' for an n-step return;
-    :class:`~app.mind.policy.replay.NStepWriter`). The last ``n_demo``
+    :class:`~app.mind.policy.training.replay.NStepWriter`). The last ``n_demo``
     transitions of ``batch`` are demonstrations: they add ``demo_weight`` times
-    :func:`~app.mind.policy.demo.margin_loss`."""
+    :func:`~app.mind.policy.training.demo.margin_loss`."""
     obs, act, rew, nxt, gamma, terminal = (torch.as_tensor(x) for x in batch)
     q_both = q(torch.cat([obs, nxt]))  # one pass of the online net for s and s'
     q_obs, q_next = q_both[: len(obs)], q_both[len(obs):].detach()
@@ -120,9 +118,8 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
           progress: bool = True) -> dict:
     """Train a policy into ``out_dir``; returns a summary with the exported policy path."""
     tc = cfg.train
-    ckpt_path, log_path = out_dir / "checkpoint.pt", out_dir / "train_log.csv"
+    folder = TrainingFolder(out_dir, resume, PolicyFileError)
     eval_path = out_dir / "eval_log.csv"
-    claim_run_folder(out_dir, ckpt_path, resume)
     torch.set_num_threads(1)
     torch.manual_seed(tc.seed)
     rng = np.random.default_rng(tc.seed)
@@ -144,11 +141,11 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         discounts)
     writer = NStepWriter(memory, tc.n_step, tc.num_envs, n_obs, discounts)
     transitions = updates = episodes = 0
-    credit, wall_offset = 0.0, 0.0
+    credit = 0.0
     best: tuple[float, float] | None = None
 
-    if ckpt_path.exists():
-        state = torch.load(ckpt_path, map_location="cpu", weights_only=False)
+    if folder.state is not None:
+        state = folder.state
         try:
             q.load_state_dict(state["q"])
             target.load_state_dict(state["target"])
@@ -157,31 +154,26 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             env.load_state_dict(state["env"])
         except (KeyError, RuntimeError, ValueError) as exc:
             raise PolicyFileError(
-                f"{ckpt_path}: cannot resume from this checkpoint, written for another network "
-                f"or by an older version ({type(exc).__name__}: {exc}); train into a new "
+                f"{folder.ckpt_path}: cannot resume from this checkpoint, written for another "
+                f"network or by an older version ({type(exc).__name__}: {exc}); train into a new "
                 "--out folder") from None
         rng.bit_generator.state = state["rng"]
         torch.set_rng_state(state["torch_rng"])
         transitions, updates, episodes = state["counters"]
-        credit, wall_offset = state["credit"], state["wall_s"]
-        best = state["best"]
+        credit, best = state["credit"], state["best"]
     else:
-        (out_dir / "resolved_config.yaml").write_text(yaml.safe_dump(
-            {"personality": personality.model_dump(by_alias=True, mode="json"),
-             "policy": cfg.model_dump(mode="json")}, sort_keys=False))
-        for path, fields in ((log_path, LOG_FIELDS), (eval_path, EVAL_FIELDS)):
-            with path.open("w", newline="") as fh:
-                csv.writer(fh).writerow(fields)
+        folder.write_config({"personality": personality.model_dump(by_alias=True, mode="json"),
+                             "policy": cfg.model_dump(mode="json")})
+    folder.open_log(eval_path.name, EVAL_FIELDS).close()
 
     def save_checkpoint() -> None:
-        atomic_torch_save({
+        folder.save({
             "q": q.state_dict(), "target": target.state_dict(),
             "optimizer": optimizer.state_dict(), "memory": memory.state_dict(),
             "env": env.state_dict(), "rng": rng.bit_generator.state,
             "torch_rng": torch.get_rng_state(),
             "counters": (transitions, updates, episodes), "credit": credit, "best": best,
-            "wall_s": wall_offset + time.perf_counter() - start,
-        }, ckpt_path)
+        })
 
     def validate_and_keep_best() -> None:
         """Validate the greedy policy; export it when it beats the best so far."""
@@ -189,7 +181,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         stats = validate(q, homeostasis, cfg)
         score = selection_score(stats, tc.select_rsr)
         improved = best is None or score > best
-        wall = wall_offset + time.perf_counter() - start
+        wall = folder.wall()
         if improved:
             best = score
             export_policy(q, cfg, out_dir / "policy.pt",
@@ -228,8 +220,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         if updates % tc.checkpoint_every == 0:
             save_checkpoint()
 
-    start = time.perf_counter()
-    log_file = log_path.open("a", newline="")
+    log_file = folder.open_log("train_log.csv", LOG_FIELDS)
     log = csv.writer(log_file)
     recent: list[dict] = []
     try:
@@ -253,7 +244,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                     episodes += 1
                     log.writerow([transitions, updates, episodes, f"{ep['return']:.3f}",
                                   f"{ep['rsr']:.6f}", f"{eps:.4f}",
-                                  f"{wall_offset + time.perf_counter() - start:.1f}"])
+                                  f"{folder.wall():.1f}"])
                     recent = [*recent, ep][-tc.num_envs:]
                 if d.episodes:
                     log_file.flush()
@@ -274,7 +265,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         log_file.close()
     validate_and_keep_best()
     save_checkpoint()
-    wall = wall_offset + time.perf_counter() - start
+    wall = folder.wall()
     summary = {"transitions": transitions, "updates": updates, "episodes": episodes,
                "wall_s": round(wall, 1), "seed": tc.seed,
                "best_validation": {"rsr": best[0], "mean_reward": best[1]}}

@@ -17,10 +17,10 @@ import torch
 
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import MOTIVATIONS
-from app.mind.policy.baselines import HomeostaticRule
 from app.mind.policy.config import EnvConfig, TrainConfig
-from app.mind.policy.env import Decisions, VecHomeostasisEnv
-from app.mind.policy.replay import NStepWriter, ReplayBuffer
+from app.mind.policy.training.baselines import HomeostaticRule
+from app.mind.policy.training.env import Decisions, VecHomeostasisEnv
+from app.mind.policy.training.replay import NStepWriter, ReplayBuffer
 
 
 def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: TrainConfig,
@@ -33,7 +33,7 @@ def collect_demonstrations(homeostasis: Homeostasis, env_cfg: EnvConfig, tc: Tra
     threshold, and ``tc.demo_initial_drives`` may start them higher than the DQN's own, so
     that the memory also shows the rule bringing drives back from there.
     ``tc.demo_anticipation`` lets the rule serve some motivations before they leave their
-    desired range (:class:`~app.mind.policy.baselines.HomeostaticRule`)."""
+    desired range (:class:`~app.mind.policy.training.baselines.HomeostaticRule`)."""
     if tc.demo_past_insecure:
         env_cfg = env_cfg.model_copy(update={"terminate_on_insecure": False})
     if tc.demo_initial_drives is not None:

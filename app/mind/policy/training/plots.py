@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from app.mind.personality import ACTIONS, MOTIVATIONS
-from app.mind.policy.env import Trace
+from app.mind.policy.training.env import Trace
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:

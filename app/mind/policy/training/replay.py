@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from app.mind.policy.env import Decisions
+from app.mind.policy.training.env import Decisions
 
 FIELDS = ("obs", "next_obs", "action", "reward", "discount", "terminal")
 
@@ -61,7 +61,7 @@ class NStepWriter:
     state ``n`` decisions later. A terminal transition, or the end of an episode, writes
     everything still pending (shorter returns; no bootstrap after a terminal one). With
     ``n = 1`` every decision is written as it comes. ``discounts[a]`` is action a's
-    discount (``app.mind.policy.train.action_discounts``)."""
+    discount (``app.mind.policy.training.train.action_discounts``)."""
 
     def __init__(self, memory: ReplayBuffer, n: int, num_envs: int, obs_dim: int,
                  discounts: np.ndarray) -> None:

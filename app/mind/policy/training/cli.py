@@ -1,4 +1,7 @@
-"""`companion train policy` and `companion eval policy`."""
+"""`companion train policy` and `companion eval policy`.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +10,7 @@ import json
 from pathlib import Path
 
 from app.core.cli_args import integer
-from app.mind.policy.agent import DEFAULT_POLICY
+from app.mind.policy.config import DEFAULT_POLICY
 
 MODELS_DIR = DEFAULT_POLICY.parent
 SHIPPED_LOG = MODELS_DIR / "policy_train_log.csv"
@@ -56,8 +59,8 @@ def run_train(args: argparse.Namespace) -> int:
     from app.core.checkpoint import atomic_copy
     from app.mind.personality import load_personality
     from app.mind.policy.config import load_policy_config
-    from app.mind.policy.plots import training_curves
-    from app.mind.policy.train import train
+    from app.mind.policy.training.plots import training_curves
+    from app.mind.policy.training.train import train
 
     personality = load_personality(args.personality)
     cfg = load_policy_config(args.config)
@@ -75,10 +78,10 @@ def run_eval(args: argparse.Namespace) -> int:
     from app.mind.homeostasis import Homeostasis
     from app.mind.personality import ACTIONS, load_personality
     from app.mind.policy.agent import DQNPolicy
-    from app.mind.policy.baselines import HomeostaticRule, RandomPolicy
     from app.mind.policy.config import load_policy_config
-    from app.mind.policy.evaluate import paired_gain, run_episodes, summarise
-    from app.mind.policy.plots import episode_figures, training_curves
+    from app.mind.policy.training.baselines import HomeostaticRule, RandomPolicy
+    from app.mind.policy.training.evaluate import paired_gain, run_episodes, summarise
+    from app.mind.policy.training.plots import episode_figures, training_curves
 
     homeostasis = Homeostasis(load_personality(args.personality))
     cfg = load_policy_config(args.config)

@@ -1,0 +1,1 @@
+"""Training, evaluation and plots of the decision-making policy (not loaded by the robot)."""

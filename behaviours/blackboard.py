@@ -1,0 +1,79 @@
+"""The tree's blackboard: every key, what it holds and its value before the first tick.
+
+All keys live at the root namespace, so that ``py_trees.display`` can show them and every
+behaviour declares what it reads and writes (:class:`behaviours.skill.ContextBehaviour`).
+Behaviours do not seed keys: :func:`seed` writes the initial value of every key, and the
+tree builders call it (:func:`behaviours.tree.build_tree` for the run,
+:func:`behaviours.harness.skill_tree` for one skill on its own).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import py_trees
+
+from app.mind.homeostasis import Homeostasis
+from app.mind.personality import DRIVES
+from behaviours.context import Context
+
+# Blackboard keys and what they hold.
+KEYS = {
+    "stimuli": "np.ndarray (3,): overheat, human_present, encouragement (0/1)",
+    "drives": "np.ndarray (6,) in [0, 1]",
+    "motivations": "np.ndarray (6,): eq. 3.4",
+    "mood": "dict: value (eq. 3.6) and positive (bool)",
+    "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
+    "action": "str | None: the running action (app.mind.personality.ACTIONS)",
+    "relieving": "bool: the running skill is satisfying its drive now",
+    "progress": "int: homeostasis steps the running skill has been relieving",
+    "act_status": "py_trees Status of the act subtree at the last tick",
+    "frame": "np.ndarray | None: the latest head-camera frame (RGB)",
+    "depth": "np.ndarray | None: its depth image (m along the optical axis, float32)",
+    "frame_t": "float: when it was taken (simulated s)",
+    "detections": "list[Detection] in the latest frame",
+    "heard": "list[SayEvent]: what people said to the robot, not yet answered",
+    "tracking": "float: camera rate (Hz) a skill steering by person boxes asks for; 0: none",
+}
+
+
+def motivations_and_mood(homeostasis: Homeostasis, drives: np.ndarray, stimuli: np.ndarray,
+                         emotion: float) -> dict[str, Any]:
+    """The ``motivations`` (eq. 3.4) and ``mood`` (eq. 3.6) of these drives, stimuli and
+    shown emotion: the homeostasis tick publishes them every step, :func:`seed` from the
+    initial drives."""
+    value = float(homeostasis.mood_value(drives, stimuli[2], emotion))
+    return {"motivations": homeostasis.motivations(drives, stimuli),
+            "mood": {"value": value, "positive": bool(homeostasis.mood_positive(value))}}
+
+
+def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
+                   ) -> dict[str, Any]:
+    """The value of every key of :data:`KEYS` before the first tick: the scenario's initial
+    drives with their motivations and mood (no stimulus, no emotion); no action yet and
+    nothing relieving; no camera frame yet (``frame_t`` -inf, so Sense takes one at the
+    first tick), nothing detected or heard; ``tracking`` 0.0: no skill asks for a camera
+    rate."""
+    drives = np.array([initial_drives[d] for d in DRIVES], dtype=np.float64)
+    stimuli, emotion = np.zeros(3), 0.0
+    values = {
+        "stimuli": stimuli, "drives": drives,
+        **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
+        "action": None, "relieving": False, "progress": 0, "act_status": None,
+        "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "heard": [],
+        "tracking": 0.0,
+    }
+    assert values.keys() == KEYS.keys(), sorted(values.keys() ^ KEYS.keys())
+    return values
+
+
+def seed(ctx: Context, initial_drives: Mapping[str, float], **values: Any) -> None:
+    """Write the initial value of every key (:func:`initial_values`) onto the blackboard;
+    ``values`` replace some of them (the skill harness fixes ``action``)."""
+    unknown = sorted(values.keys() - KEYS.keys())
+    if unknown:
+        raise KeyError(f"not blackboard keys: {unknown}")
+    for key, value in {**initial_values(ctx.homeostasis, initial_drives), **values}.items():
+        py_trees.blackboard.Blackboard.set(f"/{key}", value)

@@ -1,0 +1,27 @@
+"""How the style-transfer model sees text: the Yelp files' tokenisation (lower case, PTB-style
+clitics such as ``did n't``, punctuation apart, numbers as ``_num_``) and back."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+STYLES = ("negative", "positive")
+_PUNCT = re.compile(r"([.,!?;:()\"&])")
+_CLITIC = re.compile(r"(\w)(n't|'s|'re|'ve|'m|'ll|'d)\b")
+_NUMBER = re.compile(r"^\d+([.,:]\d+)*$")
+
+
+def tokenize(text: str) -> list[str]:
+    """Lower-case and split free text the way the Yelp files are: ``didn't`` -> ``did n't``."""
+    text = text.lower().replace("\u2019", "'")
+    text = _CLITIC.sub(r"\1 \2", text)
+    text = _PUNCT.sub(r" \1 ", text)
+    return ["_num_" if _NUMBER.match(w) else w for w in text.split()]
+
+
+def detokenize(words: Sequence[str]) -> str:
+    """A readable sentence from tokens: ``it 's good !`` -> ``it's good!``."""
+    text = " ".join(words)
+    text = re.sub(r" (n't|'s|'re|'ve|'m|'ll|'d)\b", r"\1", text)
+    return re.sub(r" ([.,!?;:)])", r"\1", text).replace("( ", "(")
