@@ -1,7 +1,7 @@
 """The ``companion`` command: one entry point with a subcommand per job.
 
 Each domain keeps its own command-line module exposing any of ``add_train``, ``add_eval``,
-``add_data``, ``add_export`` (each receives the subparsers of that group) and
+``add_data``, ``add_export``, ``add_bench`` (each receives the subparsers of that group) and
 ``add_commands`` (receives the top-level subparsers); :data:`DOMAINS` lists those modules.
 """
 
@@ -18,7 +18,8 @@ DOMAINS = ["app.mind.policy.training.cli", "dialogue.cli", "dialogue.style.train
            "dialogue.chat.training.cli", "perception.detector.training.cli",
            "perception.vqg.training.cli", "app.run_cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
-          "data": "generate a data set", "export": "export a trained model for the robot"}
+          "data": "generate a data set", "export": "export a trained model for the robot",
+          "bench": "measure the whole robot"}
 
 
 def build_parser() -> argparse.ArgumentParser:

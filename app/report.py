@@ -69,9 +69,45 @@ def compute_metrics(history: list[dict[str, Any]], events: list[dict[str, Any]]
         "skill_success_rate": success,
         "preemptions": sum(e["kind"] == "preempted" for e in events),
         "sentences_said": sum(e["kind"] == "say" for e in events),
-        "lines_heard": sum(e["kind"] == "heard" for e in events),
+        **interaction_metrics(events),
         "max_drive": dict(zip(DRIVES, drives.max(axis=0).round(4).tolist(), strict=True))
         if n else {},
+    }
+
+
+ANSWERED_WITHIN_S = 15.0  # a line counts as answered when the reply starts this soon
+
+
+def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
+    """Seconds from hearing each line said to the robot to the start of its reply, for the
+    lines that got one, sorted."""
+    heard = {e["line"]: e["t"] for e in events if e["kind"] == "heard"}
+    first: dict[int, float] = {}
+    for e in events:
+        if e["kind"] == "say" and e.get("line") in heard:
+            first.setdefault(e["line"], e["t"] - heard[e["line"]])
+    return sorted(first.values())
+
+
+def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
+    """How the robot dealt with people: lines said to it, answered within
+    :data:`ANSWERED_WITHIN_S` and at all, the median time to the answer, find-people tries
+    and successes, questions asked, and answers that were "I don't know"."""
+    heard = {e["line"] for e in events if e["kind"] == "heard"}
+    replies = [e for e in events if e["kind"] == "say" and e.get("line") in heard]
+    latency = answer_latencies(events)
+    return {
+        "lines_heard": len(heard),
+        "lines_answered": sum(d <= ANSWERED_WITHIN_S for d in latency),
+        "lines_replied": len(latency),
+        "answer_latency_s_median": round(float(np.median(latency)), 2) if latency else None,
+        "find_people_tries": sum(e["kind"] == "action" and e["action"] == "find_people"
+                                 for e in events),
+        "find_people_found": sum(e["kind"] == "person_found" for e in events),
+        "questions_asked": sum(e["kind"] == "question" for e in events),
+        "questions_grounded": sum(e["kind"] == "question_truth" and e["grounded"]
+                                  for e in events),
+        "dont_know_answers": sum(e.get("found") is False for e in replies),
     }
 
 

@@ -3,8 +3,9 @@
 The run folder gets ``events.jsonl`` (flushed per event), ``timeline.csv`` (one row per
 homeostasis step), ``dialogue.jsonl``, ``metrics.json``, ``plots/*.png``, ``frames/*.png``
 (the camera at key moments), ``tree.txt`` (the tree's shape and its last statuses) and
-``scenario.yaml`` (the scenario as run). An interrupted run keeps everything written so far
-and still writes its metrics.
+``scenario.yaml`` (the scenario as run). Each question the robot asks is scored against the
+world's ground truth of what its camera shows (a ``question_truth`` event; the robot never
+sees it). An interrupted run keeps everything written so far and still writes its metrics.
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ from typing import Any
 
 import cv2
 import numpy as np
-import py_trees
 import yaml
 from tqdm import tqdm
 
@@ -34,22 +34,34 @@ from dialogue.factory import household_dialogue
 from perception.detector.config import load_detector_config
 from perception.detector.yolo import YoloDetector
 from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
+from perception.vqg.scene import SceneGraph
+from perception.vqg.training.data_config import load_vqg_data_config
+from perception.vqg.training.household import household_scene, judge_question
 
 
 class FrameSaver:
-    """Saves camera frames as ``frames/NNNN-tTTTT-tag.png``, at most ``limit`` of them."""
+    """Saves camera frames as ``frames/NNNN-tTTTT-tag.png``, at most ``limit`` of them; with
+    a scene graph, the world's account of what the frame shows goes beside it as
+    ``NNNN-tTTTT-tag.json`` (``companion eval vqg --household`` reads both)."""
 
     def __init__(self, folder: Path, clock: Any, limit: int = 60) -> None:
         self.folder, self.clock, self.limit, self.count = folder, clock, limit, 0
 
-    def __call__(self, tag: str, frame: np.ndarray) -> str | None:
+    def __call__(self, tag: str, frame: np.ndarray, scene: SceneGraph | None = None
+                 ) -> str | None:
         if frame is None or self.count >= self.limit:
             return None
         self.folder.mkdir(parents=True, exist_ok=True)
         self.count += 1
         path = self.folder / f"{self.count:04d}-t{self.clock():07.1f}-{tag}.png"
         cv2.imwrite(str(path), cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+        self.describe(path.name, scene)
         return path.name
+
+    def describe(self, name: str | None, scene: SceneGraph | None) -> None:
+        """Write ``scene`` beside the saved frame ``name`` (nothing when either is None)."""
+        if name is not None and scene is not None:
+            (self.folder / name).with_suffix(".json").write_text(scene.to_json())
 
 
 @dataclass
@@ -102,11 +114,10 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
     (out / "scenario.yaml").write_text(yaml.safe_dump(scenario.model_dump(mode="json"),
                                                       sort_keys=False))
     sim, ctx, tree, saver = run.sim, run.ctx, run.tree, run.saver
+    visibility = load_vqg_data_config().visibility
     with sim:
         (out / "tree.txt").write_text(render(tree.root) + "\n")
         timeline = TimelineWriter(out / "timeline.csv")
-        bb = py_trees.blackboard.Client(name="run")
-        bb.register_key("frame", access=py_trees.common.Access.READ)
         ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
                         duration=scenario.duration, step=scenario.step)
         steps, interrupted, seen = round(scenario.duration / scenario.step), False, 0
@@ -118,7 +129,13 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
                     timeline.write(ctx.history)
                     for e in ctx.events.events[seen:]:
                         if e["kind"] == "action":
-                            saver(e["action"], bb.frame)
+                            frame, scene = household_scene(sim, visibility)
+                            saver(e["action"], frame, scene)
+                        elif e["kind"] == "question":  # scored by the world's ground truth
+                            _, scene = household_scene(sim, visibility)
+                            saver.describe(e["frame"], scene)
+                            ctx.events.emit("question_truth", question=e["text"],
+                                            **judge_question(e["text"], scene))
                     seen = len(ctx.events.events)
                     bar.update(scenario.step)
         except KeyboardInterrupt:

@@ -1,4 +1,5 @@
-"""``companion run SCENARIO``: a headless household run with its report.
+"""``companion run SCENARIO``: a headless household run with its report; and ``companion
+bench household``: runs of every shipped world over seeds, summarised.
 
 Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
 """
@@ -8,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from pathlib import Path
 
 from app.core.cli_args import integer, real
@@ -37,6 +39,40 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_command)
 
 
+def add_bench(sub: argparse._SubParsersAction) -> None:
+    """Register ``bench household``."""
+    p = sub.add_parser("household", help="every shipped world over seeds: interaction metrics",
+                       description="Run every shipped world for its own duration, and the "
+                       "nursing home for --long seconds, once per seed (each a `companion "
+                       "run` in its own process; complete runs in --out are reused), and "
+                       "print the mean and range of each interaction metric.")
+    p.add_argument("--seeds", type=integer(0), nargs="+", default=[0, 1, 2])
+    p.add_argument("--worlds", nargs="+", default=None,
+                   help="worlds/NAME.yaml to run (default: the four shipped worlds)")
+    p.add_argument("--long", type=integer(0), default=3600,
+                   help="seconds of the long nursing-home run (0: none; default 3600)")
+    p.add_argument("--jobs", type=integer(1), default=1, help="runs at a time")
+    p.add_argument("--out", type=Path, default=Path("runs/bench-household"))
+    p.add_argument("--docs", type=Path, help="write the table into this Markdown file "
+                   "(between its bench markers), e.g. docs/BENCHMARKS.md")
+    p.add_argument("--json", action="store_true", help="print the rows and summary as JSON")
+    p.set_defaults(func=bench_command)
+
+
+def bench_command(args: argparse.Namespace) -> int:
+    """Handler of ``companion bench household``."""
+    from app.household_bench import WORLDS, bench, plan, summarise, table, write_docs
+
+    runs = plan(args.worlds or WORLDS, args.seeds, args.long)
+    rows = bench(runs, args.out, args.jobs)
+    summary = summarise(rows)
+    text = table(summary, args.seeds)
+    if args.docs:
+        write_docs(text, args.docs, "companion bench household " + " ".join(sys.argv[3:]))
+    print(json.dumps({"runs": rows, "summary": summary}) if args.json else text)
+    return 0
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
     from app.core.errors import UserError
@@ -61,8 +97,11 @@ def run_command(args: argparse.Namespace) -> int:
     else:
         print(f"run folder: {out}")
         for key in ("duration_s", "rsr", "mood_positive_share", "preemptions",
-                    "sentences_said", "camera_frames", "wall_s", "peak_rss_mb"):
-            print(f"  {key:20s} {metrics[key]}")
-        print(f"  {'actions':20s} {metrics['actions_started']}")
-        print(f"  {'skill success':20s} {metrics['skill_success_rate']}")
+                    "sentences_said", "lines_heard", "lines_answered", "lines_replied",
+                    "answer_latency_s_median", "dont_know_answers", "find_people_tries",
+                    "find_people_found", "questions_asked", "questions_grounded",
+                    "camera_frames", "wall_s", "peak_rss_mb"):
+            print(f"  {key:24s} {metrics[key]}")
+        print(f"  {'actions':24s} {metrics['actions_started']}")
+        print(f"  {'skill success':24s} {metrics['skill_success_rate']}")
     return 0

@@ -34,7 +34,11 @@ KEYS = {
     "depth": "np.ndarray | None: its depth image (m along the optical axis, float32)",
     "frame_t": "float: when it was taken (simulated s)",
     "detections": "list[Detection] in the latest frame",
-    "heard": "list[SayEvent]: what people said to the robot, not yet answered",
+    "heard": "list[HeardLine]: what people said to the robot, not yet answered",
+    "must_finish": "bool: the running action is a safety one (critical charge, rest when "
+                   "overheated) that a line said to the robot must not interrupt",
+    "request": "Action | None: what a reply promised to do (sing a song), started next",
+    "listening_to": "float | None: world bearing (rad) of the voice being answered",
     "tracking": "float: camera rate (Hz) a skill steering by person boxes asks for; 0: none",
 }
 
@@ -54,8 +58,8 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
     """The value of every key of :data:`KEYS` before the first tick: the scenario's initial
     drives with their motivations and mood (no stimulus, no emotion); no action yet and
     nothing relieving; no camera frame yet (``frame_t`` -inf, so Sense takes one at the
-    first tick), nothing detected or heard; ``tracking`` 0.0: no skill asks for a camera
-    rate."""
+    first tick), nothing detected, heard, promised or requested; ``tracking`` 0.0: no
+    skill asks for a camera rate."""
     drives = np.array([initial_drives[d] for d in DRIVES], dtype=np.float64)
     stimuli, emotion = np.zeros(3), 0.0
     values = {
@@ -63,7 +67,7 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
         **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
         "action": None, "relieving": False, "progress": 0, "act_status": None,
         "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "heard": [],
-        "tracking": 0.0,
+        "must_finish": False, "request": None, "listening_to": None, "tracking": 0.0,
     }
     assert values.keys() == KEYS.keys(), sorted(values.keys() ^ KEYS.keys())
     return values

@@ -128,6 +128,20 @@ class ChatConfig(StrictModel):
     max_heard_age_s: PositiveFloat
 
 
+class ListeningConfig(StrictModel):
+    """Answering people (behaviours/listening.py, the chat skill): turning to a voice and
+    the promise made while a safety action must finish."""
+
+    head_speed: float = Field(gt=0, le=1)
+    turn_speed: PositiveFloat
+    turn_gain: PositiveFloat
+    facing_tolerance_deg: float = Field(gt=0, le=90)
+    answer_tolerance_deg: float = Field(gt=0, le=90)
+    answer_wait_s: float = Field(ge=0)
+    promise: str
+    activities: dict[str, str]
+
+
 class StandByConfig(StrictModel):
     """Stand-by skill: idle posture with a slow look around."""
 
@@ -151,6 +165,7 @@ class BehaviourConfig(StrictModel):
     sing_dance: SingDanceConfig
     ask_question: AskQuestionConfig
     chat: ChatConfig
+    listening: ListeningConfig
     stand_by: StandByConfig
 
 

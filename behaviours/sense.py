@@ -1,7 +1,9 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
-- people's social events (the simulation's inbox): lines said to the robot are queued in
-  ``heard``; praise switches the encouragement stimulus on for ``encouragement_s``; a shown
+- people's social events (the simulation's inbox): lines said to the robot (as its
+  microphones heard them) are queued in ``heard`` and, like a person in front, make the
+  human-present stimulus: someone talking to the robot is an interaction; praise switches
+  the encouragement stimulus on for ``encouragement_s``; a shown
   emotion colours the mood for ``emotion_hold_s``;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``) go through the
@@ -18,7 +20,8 @@ from typing import Any
 import numpy as np
 from py_trees.common import Status
 
-from app.sim.world import EmotionEvent, EncourageEvent, SayEvent
+from app.sim.hearing import HeardLine
+from app.sim.world import EmotionEvent, EncourageEvent
 from behaviours.context import Context
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, people_in_view
@@ -46,12 +49,13 @@ class Sense(ContextBehaviour):
     def _social(self) -> None:
         cfg = self.ctx.config
         for ev in self.ctx.inbox:
-            if isinstance(ev, SayEvent):
-                to_robot = ev.to in ("robot", "everyone")
-                if to_robot:
+            if isinstance(ev, HeardLine):
+                if ev.to_robot:
                     self.bb.heard = [*self.bb.heard, ev]
-                self.emit("heard" if to_robot else "overheard", person=ev.person, text=ev.text,
-                          to=ev.to)
+                    self._present_until = self.now + cfg.perception.present_hold_s
+                self.emit("heard" if ev.to_robot else "overheard", line=ev.line,
+                          person=ev.person, text=ev.text, to=ev.to,
+                          bearing=round(ev.bearing, 3))
             elif isinstance(ev, EncourageEvent):
                 self._encouraged_until = self.now + cfg.encouragement_s
                 self.emit("encouraged", person=ev.person, text=ev.text)

@@ -64,10 +64,11 @@ class Say(ContextBehaviour):
 class Relieve(ContextBehaviour):
     """Satisfy the action's drive: RUNNING until the homeostasis tick has counted the
     action's duration (Table 4.2) in relieving steps. Put it in parallel with the activity
-    that satisfies the drive (dancing, charging, ...)."""
+    that satisfies the drive (dancing, charging, ...). A new action starts with the flag
+    off (Decide), so a pre-empted skill's leaf leaves it alone."""
 
     def __init__(self, name: str, ctx: Context, action: str) -> None:
-        super().__init__(name, ctx, reads=("progress",), writes=("relieving",))
+        super().__init__(name, ctx, reads=("progress", "action"), writes=("relieving",))
         self.action = action
         self.steps: int | None = None    # the action's Table 4.2 duration, set in setup()
 
@@ -81,7 +82,9 @@ class Relieve(ContextBehaviour):
         return Status.SUCCESS if self.bb.progress >= self.steps else Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
-        self.bb.relieving = False
+        # stopped because another action pre-empted this one, the flag is the new action's
+        if self.bb.action == self.action:
+            self.bb.relieving = False
 
 
 def people_in_view(ctx: Context, detections: list[Detection]) -> list[Detection]:

@@ -5,7 +5,9 @@
     Companion (sequence, re-evaluated every tick)
     ├── Sense         stimuli, heard lines and camera detections onto the blackboard
     ├── Homeostasis   drives, motivations and mood, once per homeostasis step
-    ├── Decide        the DQN picks an action when the last one ended; low energy pre-empts
+    ├── Decide        safety first (low energy pre-empts), then answering whoever spoke,
+    │                 then the DQN's pick when the last action ended
+    ├── Promise       during a safety action: "I'll come back to you" to each new speaker
     └── Act           status mirrored to the blackboard's ``act_status``
         └── Actions (selector)
             ├── charge?  guard: action == "charge"  -> the charge skill subtree
@@ -31,6 +33,7 @@ from behaviours.blackboard import seed
 from behaviours.context import Context
 from behaviours.decide import Decide, Policy
 from behaviours.homeostasis_tick import HomeostasisTick
+from behaviours.listening import Promise
 from behaviours.sense import Sense
 
 SkillBuilder = Callable[[Context], py_trees.behaviour.Behaviour]
@@ -60,7 +63,7 @@ def build_tree(ctx: Context, policy: Policy, initial_drives: dict[str, float],
                                                  variable_name="act_status")
     return py_trees.composites.Sequence(
         "Companion", memory=False,
-        children=[Sense(ctx), HomeostasisTick(ctx), Decide(ctx, policy), act])
+        children=[Sense(ctx), HomeostasisTick(ctx), Decide(ctx, policy), Promise(ctx), act])
 
 
 def render(root: py_trees.behaviour.Behaviour, show_status: bool = False) -> str:

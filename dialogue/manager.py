@@ -76,12 +76,14 @@ class Reply:
     tablet: str | None = None
     mood: str | None = None
     unstyled: str | None = None   # the chit-chat reply before the style transfer changed it
+    found: bool = True            # False when the robot could not answer ("I don't know")
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for logs and ``--json`` output."""
         return {"text": self.text, "route": self.route,
                 "action": self.action.to_dict() if self.action else None,
-                "tablet": self.tablet, "mood": self.mood, "unstyled": self.unstyled}
+                "tablet": self.tablet, "mood": self.mood, "unstyled": self.unstyled,
+                "found": self.found}
 
 
 def clean_input(text: object, max_chars: int = MAX_CHARS) -> str:
@@ -125,7 +127,7 @@ class DialogueManager:
         except Exception:  # the robot must keep talking whatever goes wrong inside
             log.exception("dialogue failed on %r", said)
             reply = Reply("Sorry, something went wrong while I was thinking about that.",
-                          "error", mood=mood)
+                          "error", mood=mood, found=False)
         ctx.history.append((said, reply.text))
         record = {"input": said, **reply.to_dict()}
         log.info("reply %s", record)
@@ -136,7 +138,7 @@ class DialogueManager:
     def _respond(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
         if not normalise(said):
             return Reply("Sorry, I didn't catch that. Could you say it again?", "empty",
-                         mood=mood)
+                         mood=mood, found=False)
         if ASK_NAME.search(said):
             text = (f"Your name is {ctx.name}." if ctx.name
                     else "You haven't told me your name yet. What is it?")
@@ -157,11 +159,12 @@ class DialogueManager:
                                             name=ctx.name)
             if answer.topic:
                 ctx.last_topic = answer.topic
-            reply = Reply(answer.text, route, answer.action, answer.tablet, mood)
+            reply = Reply(answer.text, route, answer.action, answer.tablet, mood,
+                          found=answer.found)
         ctx.last_route = reply.route
         if greeting:
             reply = Reply(f"{greeting} {reply.text}", reply.route, reply.action, reply.tablet,
-                          mood)
+                          mood, found=reply.found)
         return reply
 
     def _route(self, said: str, ctx: DialogueContext) -> str:
@@ -173,13 +176,13 @@ class DialogueManager:
 
     def _chitchat(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
         if self.chitchat is None:
-            return Reply(UNAVAILABLE, "chitchat_unavailable", mood=mood)
+            return Reply(UNAVAILABLE, "chitchat_unavailable", mood=mood, found=False)
         try:
             text = self.chitchat.reply(said, ctx).strip()
         except Exception:
             log.exception("chit-chat model failed on %r", said)
             return Reply("Sorry, I lost my train of thought. Could you say that again?",
-                         "chitchat_error", mood=mood)
+                         "chitchat_error", mood=mood, found=False)
         plain = text
         if self.style is not None and text:
             try:

@@ -77,7 +77,8 @@ def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
     assert [r["route"] for r in rows] == ["time", "empty", "information",
                                           "chitchat"]
     assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood",
-                                 "unstyled"} for r in rows)
+                                 "unstyled", "found"} for r in rows)
+    assert [r["found"] for r in rows] == [True, False, True, True]
     assert rows[0]["mood"] == "positive" and rows[2]["tablet"].startswith("https://")
 
 

@@ -1,5 +1,6 @@
 """Decide: the policy picks each next action, a failed skill is followed by one stand-by,
-and a critical battery pre-empts whatever runs for charging."""
+a critical battery pre-empts whatever runs for charging, a line said to the robot pre-empts
+the policy's choice (not a critical charge), and a reply's request runs next, once."""
 
 from __future__ import annotations
 
@@ -11,10 +12,14 @@ from py_trees.common import Access, Status
 from app.core.events import EventLog
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import DRIVES, load_personality
+from app.sim.hearing import HeardLine
+from app.sim.speech import Speaker
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, SimClock
 from behaviours.decide import Decide
+from behaviours.listening import Promise
+from dialogue.qa.base import Action
 
 
 class Always:
@@ -71,3 +76,70 @@ def test_critical_energy_preempts_for_charging(setup):
     assert bb.action == "charge"
     assert ctx.events.of_kind("preempted")[0]["action"] == "find_people"
     assert finish(decide, bb, Status.RUNNING) == "charge"  # not pre-empted again
+
+
+def line(ctx, text: str = "What time is it?", promised: bool = False):
+    """A line heard now from straight ahead."""
+    return HeardLine(1, ctx.now, "Grace", text, "robot", 0.0, promised)
+
+
+@pytest.fixture
+def listening(setup):
+    decide, bb, ctx = setup
+    for key in ("heard", "request", "stimuli"):
+        bb.register_key(key, access=Access.WRITE)
+    return decide, bb, ctx
+
+
+def test_a_line_said_to_the_robot_preempts_the_policys_choice(listening):
+    decide, bb, ctx = listening
+    bb.act_status = Status.RUNNING
+    bb.heard = [line(ctx)]
+    decide.update()
+    assert bb.action == "chat"
+    assert ctx.events.of_kind("preempted")[-1] == {**ctx.events.of_kind("preempted")[-1],
+                                                   "action": "find_people",
+                                                   "reason": "spoken to"}
+    bb.heard = []
+    assert finish(decide, bb, Status.SUCCESS) == "find_people"  # back to the policy
+
+
+def test_a_critical_charge_is_not_interrupted_and_the_line_is_answered_after(listening):
+    decide, bb, ctx = listening
+    bb.act_status = Status.RUNNING
+    bb.drives = np.array([ctx.config.preempt_energy, 0.5, 0.5, 0.5, 0.5, 0.5])
+    decide.update()
+    assert bb.action == "charge"
+    bb.drives = np.full(6, 0.5)
+    bb.heard = [line(ctx, promised=True)]
+    assert finish(decide, bb, Status.RUNNING) == "charge"
+    ctx.clock.t += 3600.0  # a promised line never expires
+    assert finish(decide, bb, Status.SUCCESS) == "chat"
+
+
+def test_a_request_starts_its_action_once(listening):
+    decide, bb, _ = listening
+    bb.request = Action("sing_dance", {"song": "happy birthday"})
+    assert finish(decide, bb, Status.SUCCESS) == "sing_dance"
+    assert finish(decide, bb, Status.SUCCESS) == "find_people"
+    assert bb.request is None
+
+
+def test_during_a_critical_charge_each_new_speaker_gets_one_promise(listening):
+    decide, bb, ctx = listening
+    ctx.speaker = Speaker(ctx.events)
+    promise = Promise(ctx)
+    bb.act_status = Status.RUNNING
+    bb.drives = np.array([ctx.config.preempt_energy, 0.5, 0.5, 0.5, 0.5, 0.5])
+    decide.update()
+    bb.heard = [line(ctx)]
+    promise.update()
+    promise.update()
+    said = ctx.events.of_kind("say")
+    assert len(said) == 1 and "charge my battery" in said[0]["text"] and said[0]["lines"] == [1]
+    assert all(x.promised for x in bb.heard)
+    bb.drives = np.full(6, 0.5)
+    assert finish(decide, bb, Status.SUCCESS) == "chat"
+    bb.heard = [line(ctx, "Hello?")]
+    promise.update()
+    assert len(ctx.events.of_kind("say")) == 1  # a chat may be interrupted: no promise

@@ -13,7 +13,7 @@ from dialogue.qa.clock import answer_time, scenario_clock
 from dialogue.qa.home_map import Household, answer_map, plan_from_scenario, render_plan
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
 from dialogue.qa.music import SONGS, answer_music
-from dialogue.qa.news import answer_news
+from dialogue.qa.news import answer_news, news_topic
 from dialogue.qa.photo import answer_photo
 from dialogue.qa.weather import ScenarioWeather, WeatherProvider, answer_weather
 
@@ -67,6 +67,10 @@ def test_weather_from_a_block() -> None:
     assert "Taipei today: sunny" in answer_weather("Is it sunny today?", provider).text
     tomorrow = answer_weather("weather in Lisbon tomorrow", provider)
     assert "only for today, next week" in tomorrow.text
+    # no city named ("to rain", "in the garden" are not places): the home city's weather
+    garden = answer_weather("Is it going to rain tomorrow? I'd like to sit in the garden.",
+                            provider)
+    assert garden.found and "Taipei" in garden.text
 
 
 def test_weather_missing_city_and_bad_block() -> None:
@@ -86,6 +90,17 @@ def test_news_headlines_and_topic() -> None:
     assert a.text.startswith("Here are the latest headlines") and a.text.count(";") == 2
     assert a.tablet.startswith("https://")
     assert "football" in answer_news("any sports news?").text
+
+
+@pytest.mark.parametrize(("text", "topic"), [
+    ("Look, I can still touch the sky! What's in the news today?", []),
+    ("Any good news today?", []),
+    ("Is there any news about science?", ["science"]),
+    ("Tell me the latest sports news.", ["sports"]),
+    ("What's new in the community?", ["community"]),
+])
+def test_news_topic_comes_from_the_request_only(text: str, topic: list[str]) -> None:
+    assert news_topic(text) == topic
 
 
 def test_news_empty_and_missing_feed(tmp_path: Path) -> None:

@@ -16,6 +16,7 @@ from app.sim.robot import Robot
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import Speaker
+from behaviours.blackboard import seed
 from behaviours.context import Context, make_context
 from behaviours.harness import run_skill
 from behaviours.skills import rest, sing_dance, stand_by
@@ -124,7 +125,8 @@ def test_sing_dance_moves_the_arms_and_sings(living_room):
 
 
 def test_dance_rotates_through_the_routines(living_room):
-    _, ctx = living_room
+    sim, ctx = living_room
+    seed(ctx, sim.scenario.robot.initial_drives())
     book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joint_limits())
     dance = Dance(ctx, speed=0.5)
     dance.setup()

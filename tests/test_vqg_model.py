@@ -283,10 +283,11 @@ def test_missing_and_corrupt_model_files_are_user_errors(tmp_path):
 def test_eval_and_ask_commands(trained, data_dir, capsys):
     args = argparse.Namespace(config=trained / "tiny.yaml", data=None, model=trained / "vqg.pt",
                               images=3, samples=10, json=True, out=trained / "eval",
-                              ablations=None, no_progress=True, image_from=None, split="test")
+                              ablations=None, no_progress=True, image_from=None, split="test",
+                              household=None)
     assert vqg_cli.run_eval(args) == 0
     result = json.loads(capsys.readouterr().out)
-    for key in ("distinct_per_image", "dm", "ri", "rs", "bleu", "latency_ms"):
+    for key in ("distinct_per_image", "dm", "ri", "rs", "grounded5_share", "bleu", "latency_ms"):
         assert key in result
     assert 1 <= result["distinct_per_image"] <= 10 and 0 <= result["ri"] <= 1
     assert result["split"] == "test"

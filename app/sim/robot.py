@@ -21,6 +21,7 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
+from app.sim.hearing import MicrophonesConfig
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
@@ -104,6 +105,7 @@ class RobotConfig(StrictModel):
     battery: BatteryConfig
     thermal: ThermalConfig
     camera: CameraConfig
+    microphones: MicrophonesConfig
 
     @model_validator(mode="after")
     def _postures_known(self) -> Self:

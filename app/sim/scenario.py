@@ -73,6 +73,7 @@ class Room(StrictModel):
     """An axis-aligned rectangular room with walls on all four sides and optional doors."""
 
     name: str
+    kind: str | None = None   # for the question generator's ground truth (docs/scenarios.md)
     x: tuple[float, float]
     y: tuple[float, float]
     wall_height: float = Field(default=2.5, gt=0.5, le=5)
@@ -312,6 +313,7 @@ class Scenario(StrictModel):
     step: float = Field(default=0.1, gt=0, le=1)
     camera_rate: float = Field(default=1.0, gt=0, le=30)
     time_of_day: str = Field(default="10:00", pattern=r"^([01]\d|2[0-3]):[0-5]\d$")
+    occasion: str = "quiet_afternoon"   # what is going on (docs/scenarios.md)
     personality: Path | None = None
     lighting: Lighting = Lighting()
     rooms: tuple[Room, ...] = Field(min_length=1)

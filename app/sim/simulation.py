@@ -4,13 +4,16 @@ both run on it."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pybullet as p
 
+from app.sim.hearing import HeardLine, Microphones
 from app.sim.robot import Robot, load_robot_config
 from app.sim.scenario import Scenario, load_scenario
-from app.sim.world import SocialEvent, World
+from app.sim.speech import speech_seconds
+from app.sim.world import SayEvent, SocialEvent, World
 
 PHYSICS_SUBSTEP_S = 0.05  # joint motors track their ramps to 1e-3 rad at this physics step
 
@@ -19,7 +22,10 @@ class Simulation:
     """Build ``scenario`` in a DIRECT (or GUI) PyBullet client and step it.
 
     ``step()`` advances the robot's base, joints, battery and motor heat, the physics and the
-    people's timeline by one scenario step and returns the social events that fell due.
+    people's timeline by one scenario step and returns the social events that fell due. A
+    line a person says comes once they have finished saying it (people talk at the robot's
+    own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
+    (:class:`app.sim.hearing.HeardLine`).
     """
 
     def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None
@@ -39,21 +45,37 @@ class Simulation:
         self.world.pass_through(self.robot.body_id)
         self.robot.set_lighting(self.world.light.camera_kwargs())
         self.robot.set_battery(scenario.robot.battery)
+        self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
+        self._speaking: list[tuple[float, SayEvent]] = []   # (when it ends, the line)
 
     @classmethod
     def from_file(cls, path: str | Path, gui: bool = False) -> Simulation:
         """Load and validate the scenario at ``path`` and build it."""
         return cls(load_scenario(path), gui=gui)
 
-    def step(self) -> list[SocialEvent]:
-        """Advance everything by one scenario step; the social events due in it."""
+    def step(self) -> list[SocialEvent | HeardLine]:
+        """Advance everything by one scenario step; the social events due in it (lines
+        said as heard)."""
         t_next = (self.steps + 1) * self.dt
-        events = self.world.advance(self.t, t_next)
+        events: list[SocialEvent | HeardLine] = []
+        for e in self.world.advance(self.t, t_next):
+            if isinstance(e, SayEvent):
+                self._speaking.append((e.t + speech_seconds(e.text), e))
+            else:
+                events.append(e)
+        events += [self._hear(e) for end, e in self._speaking if end <= t_next + 1e-9]
+        self._speaking = [(end, e) for end, e in self._speaking if end > t_next + 1e-9]
         self.robot.step(self.dt)
         p.stepSimulation(physicsClientId=self.client)
         self.steps += 1
         self.t = t_next
         return events
+
+    def _hear(self, event: SayEvent) -> HeardLine:
+        x, y, yaw = self.robot.pose()
+        speaker = self.world.people_positions().get(event.person)
+        at = (speaker.x, speaker.y) if speaker else (x + math.cos(yaw), y + math.sin(yaw))
+        return self.microphones.hear(event, (x, y), at)
 
     def close(self) -> None:
         """Disconnect the PyBullet client."""

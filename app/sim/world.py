@@ -536,6 +536,11 @@ class World:
 
     # -- queries -------------------------------------------------------------------------------
 
+    def position_of(self, name: str) -> tuple[float, float, float]:
+        """Where the furniture item or object ``name`` stands (its base, m)."""
+        pos, _ = p.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)
+        return pos
+
     def people_positions(self) -> dict[str, Pose2D]:
         """Pose of every person now in the world."""
         return {name: Pose2D(q.x, q.y, q.yaw) for name, q in self.people.items()}

@@ -1,22 +1,40 @@
-"""Chat: dialogue turns with the person in front of the robot.
+"""Chat: dialogue turns with the people who talk to the robot or stand in front of it.
 
-The robot answers what people said to it (the ``heard`` queue, oldest first, lines older
-than ``max_heard_age_s`` dropped) through the dialogue manager, with the reply styled by the
-current mood; with nothing to answer it opens with ``opener``. The action lasts its Table
-4.2 duration (the Relieve leaf); without a person in front it fails at once.
+Spoken to, the robot turns to the voice (:class:`behaviours.listening.FaceSpeaker`) and
+answers each queued line (``heard``, oldest first; see :func:`behaviours.listening.pending`)
+through the dialogue manager, the reply styled by the current mood. It answers once its
+head points at the voice, or after ``listening.answer_wait_s``. What a reply asks of the
+robot is carried out: a song goes to ``request`` (Decide starts sing and dance next, and
+the chat ends once the reply is said), a tablet page is shown (``tablet`` event). Started
+by the policy with nothing to answer, the robot opens with ``chat.opener``; then it needs a
+person in front, or it fails at once. The action lasts its Table 4.2 duration (Relieve).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import py_trees
 from py_trees.common import Status
 
+from app.sim.hearing import HeardLine
 from behaviours.context import Context
+from behaviours.listening import FaceSpeaker, head_error, pending
 from behaviours.skill import ContextBehaviour, Relieve
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
+
+
+class SpokenTo(ContextBehaviour):
+    """SUCCESS while a line waits to be answered, else FAILURE."""
+
+    def __init__(self, ctx: Context, name: str = "Spoken to?") -> None:
+        super().__init__(name, ctx, reads=("heard",))
+
+    def update(self) -> Status:
+        lines = pending(self.bb.heard, self.now, self.ctx.config.chat.max_heard_age_s)
+        return Status.SUCCESS if lines else Status.FAILURE
 
 
 class SomeoneInFront(ContextBehaviour):
@@ -33,46 +51,83 @@ class SomeoneInFront(ContextBehaviour):
 
 
 class Converse(ContextBehaviour):
-    """Answer queued lines one at a time, each after the previous reply has been said."""
+    """Answer queued lines one at a time, each once the previous reply has been said and
+    the head points at its voice. SUCCESS when a reply asked for another action and has
+    been said; otherwise RUNNING."""
 
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
-        super().__init__(name, ctx, reads=("mood",), writes=("heard",))
+        super().__init__(name, ctx, reads=("mood",),
+                         writes=("heard", "listening_to", "request"))
         self._busy_until = 0.0
+        self._turned_at: float | None = None   # when the robot began turning to the voice
 
     def setup(self, **kwargs: Any) -> None:
         if self.ctx.dialogue is None:
             raise ValueError("the chat skill needs ctx.dialogue (a DialogueManager)")
 
-    def _pending(self) -> list:
-        oldest = self.now - self.ctx.config.chat.max_heard_age_s
-        return [ev for ev in self.bb.heard if ev.t >= oldest]
-
     def initialise(self) -> None:
-        self._busy_until = self.now
+        self._busy_until, self._turned_at = self.now, None
+        self.bb.listening_to = None
         if not self._pending():
             self._busy_until += self.ctx.speaker.say(self.ctx.config.chat.opener,
                                                      behaviour=self.name)
 
+    def _pending(self) -> list[HeardLine]:
+        return pending(self.bb.heard, self.now, self.ctx.config.chat.max_heard_age_s)
+
+    def _ready(self, line: HeardLine) -> bool:
+        """Turned to the voice of ``line`` (or waited long enough for the head)."""
+        cfg = self.ctx.config.listening
+        if self.bb.listening_to != line.bearing:
+            self.bb.listening_to, self._turned_at = line.bearing, self.now
+        aligned = abs(head_error(self.ctx, line.bearing)) <= math.radians(
+            cfg.answer_tolerance_deg)
+        return aligned or self.now - self._turned_at >= cfg.answer_wait_s
+
     def update(self) -> Status:
-        pending = self._pending()
-        if self.now < self._busy_until or not pending:
-            self.bb.heard = pending
+        lines = self._pending()
+        self.bb.heard = lines
+        if self.now < self._busy_until:
             return Status.RUNNING
-        said, self.bb.heard = pending[0], pending[1:]
+        if self.bb.request is not None:
+            return Status.SUCCESS
+        if not lines or not self._ready(lines[0]):
+            return Status.RUNNING
+        said, self.bb.heard = lines[0], lines[1:]
         mood = "positive" if self.bb.mood["positive"] else "negative"
         reply = self.ctx.dialogue.respond(said.text, mood)
         self._busy_until = self.now + self.ctx.speaker.say(
-            reply.text, behaviour=self.name, to=said.person, in_reply_to=said.text,
-            route=reply.route, mood=mood)
+            reply.text, behaviour=self.name, to=said.person, line=said.line,
+            in_reply_to=said.text, route=reply.route, found=reply.found, mood=mood)
+        if reply.tablet:
+            self.emit("tablet", page=reply.tablet, line=said.line)
+        if reply.action is not None and reply.action.name == "sing_dance":
+            self.bb.request = reply.action
         return Status.RUNNING
 
 
+class LookAhead(ContextBehaviour):
+    """On exit, stop listening and bring the head back to centre."""
+
+    def __init__(self, ctx: Context, name: str = "Look ahead") -> None:
+        super().__init__(name, ctx, writes=("listening_to",))
+
+    def update(self) -> Status:
+        return Status.RUNNING
+
+    def terminate(self, new_status: Status) -> None:
+        self.bb.listening_to = None
+        self.ctx.robot.move_joints({"HeadYaw": 0.0}, self.ctx.config.listening.head_speed)
+
+
 def build(ctx: Context) -> py_trees.behaviour.Behaviour:
-    """The chat subtree: someone in front? then converse for the action's duration (its
-    setup needs ``ctx.dialogue``)."""
-    relieve = Relieve("Chat relieves", ctx, "chat")
+    """The chat subtree: someone to talk to (spoken to, or a person in front), then talk
+    (turn to the voice, converse) for the action's duration (its setup needs
+    ``ctx.dialogue``)."""
+    anyone = py_trees.composites.Selector("Anyone to talk to?", memory=False,
+                                          children=[SpokenTo(ctx), SomeoneInFront(ctx)])
     talk = py_trees.composites.Parallel(
-        "Talk", policy=py_trees.common.ParallelPolicy.SuccessOnSelected(children=[relieve]),
-        children=[Converse(ctx), relieve])
-    return py_trees.composites.Sequence("Chat", memory=True,
-                                        children=[SomeoneInFront(ctx), talk])
+        "Talk", policy=py_trees.common.ParallelPolicy.SuccessOnOne(),
+        children=[Converse(ctx), FaceSpeaker(ctx), LookAhead(ctx),
+                  Relieve("Chat relieves", ctx, "chat")])
+    return py_trees.composites.Sequence("Chat", memory=True, children=[anyone, talk])

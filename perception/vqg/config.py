@@ -145,6 +145,7 @@ class EvalConfig(StrictModel):
     latency_n: PositiveInt
     ablation_scale: float = Field(gt=0, le=1)
     bars: dict[str, float]
+    household_bars: dict[str, float]
 
 
 class VqgConfig(StrictModel):

@@ -69,6 +69,10 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-eval"),
                    help="folder for metrics.json")
+    p.add_argument("--household", type=Path, nargs="+", metavar="RUNS",
+                   help="score the frames household runs saved with their ground truth "
+                   "(run folders, or folders holding them: runs/bench-household) instead of "
+                   "the data set's split; no BLEU")
     p.add_argument("--ablations", type=Path, metavar="DIR",
                    help="train and evaluate the ablations into DIR (runs/vqg-ablations)")
     p.add_argument("--image-from", type=Path, metavar="FILE",
@@ -137,6 +141,7 @@ def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval vqg``."""
     from perception.vqg.training.ablations import format_table, run_ablations
     from perception.vqg.training.evaluate import evaluate
+    from perception.vqg.training.household import evaluate_household
 
     cfg = _config(args)
     images = args.images or cfg.eval.images
@@ -147,17 +152,25 @@ def run_eval(args: argparse.Namespace) -> int:
                              progress=not args.no_progress, image_from=args.image_from)
         print(json.dumps(rows) if args.json else format_table(rows))
         return 0
-    result = evaluate(args.model, cfg, images, samples, args.split)
+    if args.household:
+        result = evaluate_household(args.model, cfg, args.household, samples)
+    else:
+        result = evaluate(args.model, cfg, images, samples, args.split)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "metrics.json").write_text(json.dumps(result, indent=2))
     if args.json:
         print(json.dumps({k: v for k, v in result.items() if k != "examples"}))
     else:
-        for k in ("distinct_per_image", "dm", "ri", "rs", "bleu", "latency_ms"):
-            bar = cfg.eval.bars.get(k)
+        bars = cfg.eval.household_bars if args.household else cfg.eval.bars
+        for k in ("distinct_per_image", "dm", "ri", "rs", "grounded5_share", "bleu",
+                  "latency_ms"):
+            if result.get(k) is None:
+                continue
+            bar = bars.get(k)
             verdict = ("" if bar is None
                        else f"  (bar {bar}: {'pass' if result['pass'][k] else 'FAIL'})")
             print(f"{k:>20}: {result[k]:.3f}{verdict}")
+        print(f"{'images':>20}: {result['images']}")
         print(f"\nmetrics.json and examples in {args.out}")
     return 0
 

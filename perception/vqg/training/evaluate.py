@@ -13,6 +13,8 @@ question each); the *distinct* question strings of an image form its set S. Over
   scene's topic (:func:`~perception.vqg.questions.is_on_topic`).
 * ``bleu``: sacreBLEU corpus BLEU of every question in every S against all the reference
   questions of its image (a variable number of references).
+* ``grounded5_share``: share of the images showing a person or an object whose S holds at
+  least five grounded questions.
 * ``latency_ms``: median wall time of ``ask(frame, 10)`` on a full-size test frame.
 
 The shares pool the questions of all images (the thesis's 785 sentences).
@@ -44,6 +46,7 @@ from textnets.vocab import Vocab
 
 MODEL_FILE = "vqg.pt"
 METRICS = ("distinct_per_image", "dm", "ri", "rs")
+RICH_GROUNDED = 5  # grounded5_share: frames showing a person or object with this many or more
 
 
 @dataclass
@@ -91,12 +94,15 @@ def question_metrics(gen: VqgQuestionGenerator, items: list[Item], samples: int,
     flags: dict[str, list[bool]] = {"dm": [], "ri": [], "rs": [], "parsed": []}
     hyps: list[str] = []
     refs: list[list[str]] = []
-    sizes, examples = [], []
+    sizes, examples, rich = [], [], []
     for item in items:
         distinct = gen.questions(item.image, samples)
         sizes.append(len(distinct))
-        for k, v in judge(distinct, item.scene).items():
+        verdicts = judge(distinct, item.scene)
+        for k, v in verdicts.items():
             flags[k] += v
+        if any(n.category in ("person", "object") for n in item.scene.nodes):
+            rich.append(sum(verdicts["ri"]) >= RICH_GROUNDED)
         hyps += distinct
         refs += [item.refs] * len(distinct)
         if len(examples) < 5:
@@ -104,6 +110,7 @@ def question_metrics(gen: VqgQuestionGenerator, items: list[Item], samples: int,
     n = max(1, len(hyps))
     out: dict[str, Any] = {"distinct_per_image": sum(sizes) / max(1, len(sizes))}
     out |= {k: sum(v) / n for k, v in flags.items()}
+    out["grounded5_share"] = sum(rich) / len(rich) if rich else None
     if bleu:
         width = max((len(r) for r in refs), default=0)
         streams = [[r[j] if j < len(r) else None for r in refs] for j in range(width)]

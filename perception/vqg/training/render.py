@@ -106,42 +106,44 @@ class VqgRenderer(DetectorScene):
         finally:
             for body in built:
                 p.removeBody(body, physicsClientId=self.client)
-        return rgb, self._visible(plan.graph, ids, bodies, links)
+        return rgb, visible_graph(plan.graph, ids, bodies, links, self.visibility)
 
-    def _visible(self, graph: SceneGraph, ids: dict[str, int], bodies: np.ndarray,
-                 links: np.ndarray) -> SceneGraph:
-        """The graph with the visibility rule applied and image sides, distances, near set."""
-        vis, width = self.visibility, bodies.shape[1]
-        cols = np.broadcast_to(np.arange(width), bodies.shape)
-        kept: list[Node] = []
-        for n in graph.nodes:
-            mask = bodies == ids[n.id]
-            if n.kind == "cake":
-                parts = [mask & (links == i) for i in range(n.candles)]
-                n.candles = sum(int(m.sum()) >= vis.min_pixels.candle for m in parts)
-                for i, m in enumerate(parts):
-                    if int(m.sum()) >= vis.min_pixels.candle:
-                        kept.append(Node(f"candle_{sum(k.kind == 'candle' for k in kept)}",
-                                         "candle", CANDLE_COLOURS[i % 2], n.x, n.y, n.z,
-                                         support=n.id, pixels=int(m.sum()), lit=n.lit,
-                                         side=_side(cols[m], width)))
-                mask = mask & (links < 0)
-            n.pixels = int(mask.sum())
-            if n.pixels >= getattr(vis.min_pixels, n.category):
-                n.side, n.distance = _side(cols[mask], width), round(math.hypot(n.x, n.y), 3)
-                kept.append(n)
-        keep = {n.id for n in kept}
-        if not any(n.kind == "cake" for n in kept):  # no candles without their cake
-            kept = [n for n in kept if n.kind != "candle"]
-        furniture = [f for f in kept if f.category == "furniture"]
-        for n in kept:
-            if n.support not in keep and n.support != "floor":
-                n.support = ""
-            if n.kind == "candle" or (n.category == "object" and n.support not in ("floor", "")):
-                continue
-            n.near = [f.id for f in furniture if f.id not in (n.id, n.support)
-                      and math.hypot(f.x - n.x, f.y - n.y) < vis.near_m + max(f.size[:2]) / 2]
-        return SceneGraph(graph.room, graph.occasion, kept, graph.width, graph.height)
+
+def visible_graph(graph: SceneGraph, ids: dict[str, int], bodies: np.ndarray,
+                  links: np.ndarray, vis: VisibilityConfig) -> SceneGraph:
+    """``graph`` with the visibility rule applied to the segmentation ``bodies``/``links``
+    (``ids``: node id -> body id), and image sides, distances and the near set filled in."""
+    width = bodies.shape[1]
+    cols = np.broadcast_to(np.arange(width), bodies.shape)
+    kept: list[Node] = []
+    for n in graph.nodes:
+        mask = bodies == ids[n.id]
+        if n.kind == "cake":
+            parts = [mask & (links == i) for i in range(n.candles)]
+            n.candles = sum(int(m.sum()) >= vis.min_pixels.candle for m in parts)
+            for i, m in enumerate(parts):
+                if int(m.sum()) >= vis.min_pixels.candle:
+                    kept.append(Node(f"candle_{sum(k.kind == 'candle' for k in kept)}",
+                                     "candle", CANDLE_COLOURS[i % 2], n.x, n.y, n.z,
+                                     support=n.id, pixels=int(m.sum()), lit=n.lit,
+                                     side=_side(cols[m], width)))
+            mask = mask & (links < 0)
+        n.pixels = int(mask.sum())
+        if n.pixels >= getattr(vis.min_pixels, n.category):
+            n.side, n.distance = _side(cols[mask], width), round(math.hypot(n.x, n.y), 3)
+            kept.append(n)
+    keep = {n.id for n in kept}
+    if not any(n.kind == "cake" for n in kept):  # no candles without their cake
+        kept = [n for n in kept if n.kind != "candle"]
+    furniture = [f for f in kept if f.category == "furniture"]
+    for n in kept:
+        if n.support not in keep and n.support != "floor":
+            n.support = ""
+        if n.kind == "candle" or (n.category == "object" and n.support not in ("floor", "")):
+            continue
+        n.near = [f.id for f in furniture if f.id not in (n.id, n.support)
+                  and math.hypot(f.x - n.x, f.y - n.y) < vis.near_m + max(f.size[:2]) / 2]
+    return SceneGraph(graph.room, graph.occasion, kept, graph.width, graph.height)
 
 
 def _side(cols: np.ndarray, width: int) -> str:

@@ -1,0 +1,70 @@
+"""A person who talks to the robot is answered promptly, in the full tree: the robot turns
+to the voice (head, then base), answers through the dialogue manager, and carries out what
+the answer asks for."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from app.report import interaction_metrics
+from app.run import build_run
+from app.sim.robot import wrap_angle
+from app.sim.scenario import Event, Placement, Start, load_scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def living_room(lines: list[tuple[float, str]], duration: float = 30.0):
+    """worlds/living_room.yaml with Tom alone, standing behind the robot, saying ``lines``
+    (time, text); the robot starts standing by with calm drives."""
+    base = load_scenario(ROOT / "worlds" / "living_room.yaml")
+    tom = next(q for q in base.people if q.name == "Tom")
+    events = tuple(Event.model_validate({"at": t, "say": text}) for t, text in lines)
+    tom = tom.model_copy(update={"start": Start(x=5.6, y=2.6, yaw=180.0), "events": events})
+    robot = base.robot.model_copy(update={"start": Placement(x=4.4, y=2.6, yaw=180.0)})
+    return base.model_copy(update={"people": (tom,), "robot": robot, "duration": duration})
+
+
+def run(scenario, out: Path) -> tuple[list[dict], list[tuple[float, float]]]:
+    """Tick the whole run; its events and (t, bearing error from robot head to Tom)."""
+    household = build_run(scenario, out)
+    facing = []
+    with household.sim as sim:
+        for _ in range(round(scenario.duration / scenario.step)):
+            household.tree.tick()
+            x, y, yaw = sim.robot.pose()
+            tom = sim.world.people_positions()["Tom"]
+            head = yaw + sim.robot.joint_positions()["HeadYaw"]
+            facing.append((sim.t, wrap_angle(math.atan2(tom.y - y, tom.x - x) - head)))
+    return household.ctx.events.events, facing
+
+
+@pytest.fixture(scope="module")
+def answered(tmp_path_factory):
+    scenario = living_room([(3.0, "What time is it in London?"),
+                            (16.0, "Could you sing Happy Birthday for me?")])
+    return run(scenario, tmp_path_factory.mktemp("answering"))
+
+
+def test_a_line_said_from_behind_is_answered_facing_the_speaker(answered):
+    events, facing = answered
+    replies = [e for e in events if e["kind"] == "say" and e.get("line") == 1]
+    assert replies and replies[0]["route"] == "time"
+    assert replies[0]["t"] - 3.0 <= 15.0
+    error_then = min(facing, key=lambda f: abs(f[0] - replies[0]["t"]))[1]
+    assert abs(error_then) <= math.radians(30)  # Tom stood behind; the robot turned
+    metrics = interaction_metrics(events)
+    assert metrics["lines_heard"] == 2 and metrics["lines_answered"] == 2
+
+
+def test_a_song_asked_for_is_sung_after_the_reply(answered):
+    events, _ = answered
+    reply = next(e for e in events if e["kind"] == "say" and e.get("line") == 2)
+    assert reply["route"] == "music"
+    dance = next(e for e in events if e["kind"] == "dance")
+    assert dance["t"] > reply["t"] and dance["requested"] == "happy birthday"
+    started = [e["reason"] for e in events if e["kind"] == "action"]
+    assert "asked" in started
