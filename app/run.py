@@ -24,6 +24,7 @@ from tqdm import tqdm
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import DEFAULT_POLICY
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
+from app.sim.dances import song_names
 from app.sim.scenario import Scenario
 from app.sim.simulation import Simulation
 from behaviours.config import load_behaviour_config
@@ -92,7 +93,8 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     def take_photo() -> Path:
         return out / "frames" / str(saver("photo", sim.robot.camera_frame()))
 
-    dialogue = household_dialogue(scenario, lambda: sim.t, out, take_photo)
+    dialogue = household_dialogue(scenario, lambda: sim.t, out, take_photo,
+                                  songs=song_names(config.sing_dance.resolved_routines()))
     questions = (VqgQuestionGenerator.load(DEFAULT_VQG_MODEL, seed=scenario.seed)
                  if DEFAULT_VQG_MODEL.is_file() else None)
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",

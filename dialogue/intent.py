@@ -87,7 +87,7 @@ def _topics() -> frozenset[str]:
     return frozenset(KnowledgeBase.load().index)
 
 
-SONG_NAMES = frozenset({*SONGS, "twinkle twinkle"})
+SONG_NAMES = frozenset(normalise(c) for cues in SONGS.values() for c in cues)
 
 
 def mask_entities(text: str) -> str:

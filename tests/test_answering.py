@@ -65,6 +65,9 @@ def test_a_song_asked_for_is_sung_after_the_reply(answered):
     reply = next(e for e in events if e["kind"] == "say" and e.get("line") == 2)
     assert reply["route"] == "music"
     dance = next(e for e in events if e["kind"] == "dance")
-    assert dance["t"] > reply["t"] and dance["requested"] == "happy birthday"
+    assert dance["t"] > reply["t"] and dance["requested"] == "Happy Birthday"
+    assert dance["title"] == "Happy Birthday"   # the routine of the song asked for
+    sung = [e["text"] for e in events if e["kind"] == "say" and e.get("song")]
+    assert sung[0] == "Happy birthday to you"
     started = [e["reason"] for e in events if e["kind"] == "action"]
     assert "asked" in started

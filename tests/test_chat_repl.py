@@ -54,7 +54,7 @@ def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
         assert "Robot mood: negative (forced by --mood)" in banner
         os.write(master, b"Can you play 'Happy Birthday' for Mia?\n")
         out = term.until("you> ")
-        assert "robot [music]" in out and "action: sing_dance song=happy birthday" in out
+        assert "robot [music]" in out and "action: sing_dance song=Happy Birthday" in out
         os.write(master, b"where is the teddy?\n")
         out = term.until("you> ")
         assert "robot [map]" in out and "tablet: " in out and ".png" in out

@@ -119,7 +119,7 @@ def test_a_critical_charge_is_not_interrupted_and_the_line_is_answered_after(lis
 
 def test_a_request_starts_its_action_once(listening):
     decide, bb, _ = listening
-    bb.request = Action("sing_dance", {"song": "happy birthday"})
+    bb.request = Action("sing_dance", {"song": "Happy Birthday"})
     assert finish(decide, bb, Status.SUCCESS) == "sing_dance"
     assert finish(decide, bb, Status.SUCCESS) == "find_people"
     assert bb.request is None

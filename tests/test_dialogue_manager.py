@@ -93,7 +93,7 @@ def test_qa_answers_carry_action_and_tablet(manager: DialogueManager) -> None:
     reply = manager.respond("Where is the kettle?")
     assert reply.tablet.endswith(".png") and Path(reply.tablet).is_file()
     reply = manager.respond("play happy birthday")
-    assert reply.action.name == "sing_dance" and reply.action.params["song"] == "happy birthday"
+    assert reply.action.name == "sing_dance" and reply.action.params["song"] == "Happy Birthday"
     assert manager.respond("take a photo of us").action.name == "take_photo"
 
 

@@ -170,16 +170,21 @@ def test_render_plan_and_scenario_plan(tmp_path: Path) -> None:
 
 
 # -- music and photo --------------------------------------------------------------------
-def test_music_songs() -> None:
-    assert SONGS == ("happy birthday", "twinkle twinkle little star", "you are my sunshine")
-    for question, song in [("Robot, can you play 'Happy Birthday' for Mia?", SONGS[0]),
-                           ("sing twinkle twinkle for the kids", SONGS[1]),
-                           ("Can you sing 'You Are My Sunshine' for us?", SONGS[2]),
-                           ("Dance with me, robot!", "you are my sunshine")]:
+def test_music_songs_are_the_dance_routines() -> None:
+    assert list(SONGS) == ["Tea Time Waltz", "Good Morning Sunshine", "Gears and Grooves",
+                           "Happy Birthday", "Twinkle, Twinkle, Little Star"]
+    for question, song in [("Robot, can you play 'Happy Birthday' for Mia?", "Happy Birthday"),
+                           ("sing twinkle twinkle for the kids", "Twinkle, Twinkle, Little Star"),
+                           ("Would you sing the birthday song?", "Happy Birthday"),
+                           ("Dance with me, robot!", "Tea Time Waltz")]:
         a = answer_music(question)
         assert a.action.name == "sing_dance" and a.action.params["song"] == song
-    a = answer_music("Could you play 'Moon River' for me?")
-    assert a.action is None and "Moon River" in a.text and "Happy Birthday" in a.text
+    for unknown in ("Could you play 'Moon River' for me?",
+                    "Can you sing 'You Are My Sunshine' for us?"):
+        a = answer_music(unknown)
+        assert a.action is None and not a.found and "Happy Birthday" in a.text
+    own = {"Lullaby": ("lullaby", "sleep song")}
+    assert answer_music("sing me the sleep song", own).action.params["song"] == "Lullaby"
 
 
 def test_photo(tmp_path: Path) -> None:

@@ -12,6 +12,7 @@ from py_trees.common import Status
 
 from app.core.config_files import ConfigError
 from app.core.events import EventLog
+from app.sim.dances import load_dances
 from app.sim.robot import Robot
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
@@ -20,7 +21,6 @@ from behaviours.blackboard import seed
 from behaviours.context import Context, make_context
 from behaviours.harness import run_skill
 from behaviours.skills import rest, sing_dance, stand_by
-from behaviours.skills.dances import load_dances
 from behaviours.skills.sing_dance import Dance
 
 WORLD = Path(__file__).resolve().parents[1] / "worlds" / "living_room.yaml"

@@ -1,6 +1,7 @@
 """Sing and dance: perform a routine of ``app/defaults/dances.yaml`` (keyframed arm, head
 and hip gestures with sung lines, docs/skills_body.md), looped for the action's Table 4.2
-duration, then stand. Each start of the skill takes the next routine in the file's order."""
+duration, then stand. A song someone asked for is danced as asked; otherwise each start of
+the skill takes the next routine in the file's order."""
 
 from __future__ import annotations
 
@@ -9,16 +10,16 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
+from app.sim.dances import Routine, load_dances
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour, Relieve
-from behaviours.skills.dances import Routine, load_dances
 from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
 
 
 class Dance(ContextBehaviour):
     """Sing each lyric line and command each keyframe at its time, looping the routine;
-    RUNNING until stopped. Every start takes the next routine (rotating); a song someone
-    asked for (``request``) is logged with it. The routines
+    RUNNING until stopped. A start asked for by a reply (``request``) dances the routine
+    of the song asked for; any other start takes the next routine (rotating). The routines
     file (``sing_dance.routines``) is loaded and checked against the robot's joint limits
     in ``setup()``."""
 
@@ -38,12 +39,15 @@ class Dance(ContextBehaviour):
         self.routines = list(book.routines)
 
     def initialise(self) -> None:
-        self.routine = self.routines[self._turn % len(self.routines)]
-        self._turn += 1
+        asked = self.bb.request.params.get("song") if self.bb.request is not None else None
+        chosen = [r for r in self.routines if r.title == asked]
+        if chosen:
+            self.routine = chosen[0]
+        else:
+            self.routine = self.routines[self._turn % len(self.routines)]
+            self._turn += 1
         self._begin_pass(self.now)
-        asked = self.bb.request
-        self.emit("dance", title=self.routine.title,
-                  requested=asked.params.get("song") if asked is not None else None)
+        self.emit("dance", title=self.routine.title, requested=asked)
 
     def _begin_pass(self, start: float) -> None:
         self._pass_start = start

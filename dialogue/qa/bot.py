@@ -13,7 +13,7 @@ from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.clock import Clock, answer_time, utc_now
 from dialogue.qa.home_map import Household, answer_map
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
-from dialogue.qa.music import answer_music
+from dialogue.qa.music import SONGS, Songs, answer_music
 from dialogue.qa.news import SAMPLE_FEED, answer_news
 from dialogue.qa.photo import TakePhoto, answer_photo
 from dialogue.qa.weather import ScenarioWeather, WeatherProvider, answer_weather
@@ -27,15 +27,16 @@ class QABot:
     Every provider is optional: a missing one gives a polite "I can't" answer.
     ``household`` feeds the map, ``take_photo`` saves a camera frame and returns its path,
     ``out_dir`` receives rendered maps (a temporary folder when not given), ``clock``
-    returns the current aware datetime and ``home_city`` answers questions naming no city
-    (default: the weather provider's home city).
+    returns the current aware datetime, ``home_city`` answers questions naming no city
+    (default: the weather provider's home city) and ``songs`` are the songs the robot can
+    sing and dance (default: the shipped routines).
     """
 
     def __init__(self, *, weather: WeatherProvider | None = None,
                  feed: str | Path | None = SAMPLE_FEED, knowledge: KnowledgeBase | None = None,
                  household: Household | None = None, out_dir: str | Path | None = None,
                  clock: Clock = utc_now, home_city: str | None = None,
-                 take_photo: TakePhoto | None = None) -> None:
+                 take_photo: TakePhoto | None = None, songs: Songs = SONGS) -> None:
         self.weather = weather
         self.feed = feed
         self.knowledge = knowledge if knowledge is not None else KnowledgeBase.load()
@@ -44,6 +45,7 @@ class QABot:
         self.clock = clock
         self.home_city = home_city or (weather.home_city if weather else None)
         self.take_photo = take_photo
+        self.songs = songs
 
     @classmethod
     def offline(cls, **kwargs: Any) -> QABot:
@@ -78,7 +80,7 @@ class QABot:
         if category == "map":
             return answer_map(text, self.household, self.out_dir, self.knowledge)
         if category == "music":
-            return answer_music(text)
+            return answer_music(text, self.songs)
         return answer_photo(self.take_photo, name)
 
 

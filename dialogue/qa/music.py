@@ -1,18 +1,23 @@
-"""Play-music category: start the sing/dance skill with one of the songs the robot knows."""
+"""Play-music category: start the sing/dance skill with one of the songs the robot knows.
+
+The songs the robot knows are its dance routines (``app/defaults/dances.yaml``, or the
+routines file a run uses): asked for one of them, by its title or another name, it says so
+and the skill dances that routine; asked for a song it does not know, it says which ones
+it can sing; asked for "a song", it sings the first one.
+"""
 
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping, Sequence
 from urllib.parse import quote_plus
 
+from app.sim.dances import song_names
 from dialogue.qa.base import Action, Answer
 from dialogue.qa.text import normalise, word_set
 
-SONGS = ("happy birthday", "twinkle twinkle little star", "you are my sunshine")
-DEFAULT_SONG = "you are my sunshine"
-CUES = {"happy birthday": ("happy birthday", "birthday"),
-        "twinkle twinkle little star": ("twinkle", "little star"),
-        "you are my sunshine": ("sunshine",)}
+Songs = Mapping[str, Sequence[str]]   # title -> the phrases that ask for it
+SONGS: Songs = song_names()          # the shipped routines
 GENERIC = word_set("""a an the some any music song songs something anything tune tunes calm
 nice happy cheerful relaxing soft quiet lively little favourite favorite us me dance dancing bit
 few again please for with now to tonight one another more your our my you robot something's
@@ -22,10 +27,10 @@ QUOTED = re.compile(r"(?:^|(?<=\s))[\"'\u2018\u201c]([^\"\u2019\u201d]{2,60}?)"
 ASK = re.compile(r"\b(?:play|sing|put on|hum)\s+(.+)$")
 
 
-def _known(t: str) -> str | None:
-    for song, cues in CUES.items():
-        if any(f" {c} " in f" {t} " for c in cues):
-            return song
+def _known(t: str, songs: Songs) -> str | None:
+    for title, cues in songs.items():
+        if any(f" {normalise(c)} " in f" {t} " for c in cues):
+            return title
     return None
 
 
@@ -40,18 +45,19 @@ def _asked_title(text: str) -> str | None:
     return " ".join(words) if any(w not in GENERIC for w in words) else None
 
 
-def answer_music(text: str) -> Answer:
-    """Ask the robot to sing and dance the named song (or its default one)."""
+def answer_music(text: str, songs: Songs = SONGS) -> Answer:
+    """Ask the robot to sing and dance the named song of ``songs`` (or the first one)."""
     t = normalise(text)
-    song = _known(t)
+    song = _known(t, songs)
     if song is None:
         title = _asked_title(text)
-        if title and _known(normalise(title)) is None:
-            known = ", ".join(s.title() for s in SONGS[:-1]) + f" or {SONGS[-1].title()}"
+        if title and _known(normalise(title), songs) is None:
+            names = list(songs)
+            known = ", ".join(names[:-1]) + f" or {names[-1]}" if len(names) > 1 else names[0]
             title = title.title() if title.islower() else title
             return Answer(f"Sorry, I don't know {title} yet. I can sing {known}.",
                           found=False, topic=title)
-        song = DEFAULT_SONG
-    return Answer(f"Here comes {song.title()}! Let's sing and dance.",
+        song = next(iter(songs))
+    return Answer(f"Here comes {song}! Let's sing and dance.",
                   tablet=f"https://www.youtube.com/results?search_query={quote_plus(song)}",
                   action=Action("sing_dance", {"song": song}), topic=song)

@@ -111,6 +111,13 @@ def parse_question(text: str) -> Frame | None:
     return None
 
 
+def about_people(frame: Frame) -> bool:
+    """Whether the question refers to a person (its target, garments or relation)."""
+    related = frame.relation[1] if frame.relation else ""
+    return (frame.target in PERSON_NOUNS or frame.target in GARMENT_KINDS
+            or related in PERSON_NOUNS or frame.kind in ("who", "mood"))
+
+
 def frame_key(frame: Frame) -> tuple:
     """Hashable meaning of a frame (for Diverse Meaning)."""
     return (frame.kind, frame.target, frame.attrs, frame.relation or (), frame.value)

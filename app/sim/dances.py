@@ -1,6 +1,8 @@
 """The sing/dance routines file (``app/defaults/dances.yaml``, docs/skills_body.md): schema
-and loader. A routine is a song's title, its length, the lyric lines with the time each one
-is sung and keyframes of joint targets by Pepper joint name."""
+and loader. A routine is a song's title (and other names people use for it), its length,
+the lyric lines with the time each one is sung and keyframes of joint targets by Pepper
+joint name. The routines are the songs the robot knows: the music answers of the dialogue
+offer them (:func:`song_names`)."""
 
 from __future__ import annotations
 
@@ -11,8 +13,11 @@ from typing import Self
 from pydantic import Field, NonNegativeFloat, PositiveFloat, create_model, model_validator
 
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
+from app.core.paths import DEFAULTS_DIR
 from app.sim.robot import JOINT_NAMES
 from app.sim.speech import speech_seconds
+
+DEFAULT_DANCES = DEFAULTS_DIR / "dances.yaml"
 
 # One optional angle (rad) per joint: a misspelt joint is reported as an unknown key.
 JointTargets = create_model(
@@ -48,6 +53,7 @@ class Routine(StrictModel):
     """One song and dance, looped every ``length_s`` seconds."""
 
     title: str = Field(min_length=1)
+    aliases: tuple[str, ...] = ()   # other names people ask for it by ("twinkle twinkle")
     length_s: PositiveFloat
     lyrics: list[LyricLine] = Field(min_length=1)
     keyframes: list[Keyframe] = Field(min_length=1)
@@ -87,3 +93,11 @@ def load_dances(path: str | Path, limits: Mapping[str, tuple[float, float]]) -> 
     if problems:
         raise ConfigError(str(path), problems)
     return book
+
+
+def song_names(path: str | Path = DEFAULT_DANCES) -> dict[str, tuple[str, ...]]:
+    """The songs of the routines file: each title with the phrases that ask for it (the
+    title and its aliases, lower case), in the file's order."""
+    book = validate(DanceBook, read_yaml(path), str(path))
+    return {r.title: tuple(dict.fromkeys(s.lower() for s in (r.title, *r.aliases)))
+            for r in book.routines}
