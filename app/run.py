@@ -34,6 +34,8 @@ from behaviours.tree import build_tree, render
 from dialogue.factory import household_dialogue
 from perception.detector.config import load_detector_config
 from perception.detector.yolo import YoloDetector
+from perception.facing.config import DEFAULT_FACING_MODEL
+from perception.facing.model import FacingEstimator
 from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import load_vqg_data_config
@@ -80,8 +82,8 @@ class HouseholdRun:
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
               policy_path: Path | None = None, behaviour_config: Path | None = None,
               audio: bool = False) -> HouseholdRun:
-    """Build the world, the robot's services (detector, dialogue, question generator,
-    policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
+    """Build the world, the robot's services (detector, facing model, dialogue, question
+    generator, policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
     ask-question skill fails (it has no canned questions)."""
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
@@ -97,9 +99,11 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
                                   songs=song_names(config.sing_dance.resolved_routines()))
     questions = (VqgQuestionGenerator.load(DEFAULT_VQG_MODEL, seed=scenario.seed)
                  if DEFAULT_VQG_MODEL.is_file() else None)
+    facing = (FacingEstimator.load(DEFAULT_FACING_MODEL) if DEFAULT_FACING_MODEL.is_file()
+              else None)
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
                        audio_dir=out / "audio" if audio else None, dialogue=dialogue,
-                       questions=questions)
+                       questions=questions, facing=facing)
     ctx.snapshot = saver
     tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
     tree.setup()

@@ -100,6 +100,10 @@ class FindPeopleConfig(StrictModel):
     detour_candidates: PositiveInt
     detour_arc_weight: NonNegativeFloat
     max_detours: NonNegativeInt
+    facing_min_confidence: float = Field(ge=0, le=1)
+    facing_frames: PositiveInt
+    facing_max_distance_m: PositiveFloat
+    front_tolerance_deg: float = Field(gt=0, le=180)
     timeout_s: PositiveFloat
 
 

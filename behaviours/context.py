@@ -22,6 +22,7 @@ from app.sim.speech import Speaker
 from app.sim.world import World
 from behaviours.config import BehaviourConfig, load_behaviour_config
 from perception.detector.yolo import Detector
+from perception.facing.model import FacingEstimator
 
 
 class QuestionGenerator(Protocol):
@@ -59,6 +60,7 @@ class Context:
     detector: Detector | None = None
     dialogue: Any = None                     # dialogue.manager.DialogueManager
     questions: QuestionGenerator | None = None
+    facing: FacingEstimator | None = None    # which way a person in a box looks
     camera_rate: float = 2.0                 # frames per second while no one is tracked
     inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far

@@ -29,7 +29,7 @@ from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot, load_weather
 from dialogue.qa.clock import scenario_clock
 from dialogue.qa.home_map import plan_from_scenario
-from dialogue.qa.music import SONGS, Songs
+from dialogue.qa.music import Songs
 from dialogue.qa.news import SAMPLE_FEED
 from dialogue.qa.places import lookup
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
@@ -58,10 +58,10 @@ def shipped_style() -> StyleTransfer | None:
 
 def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir: Path,
                        take_photo: Callable[[], str | Path] | None = None,
-                       style: Any = "shipped", songs: Songs = SONGS) -> DialogueManager:
+                       style: Any = "shipped", songs: Songs | None = None) -> DialogueManager:
     """A manager for a run of ``scenario``; replies are appended to ``out_dir/dialogue.jsonl``.
     ``style``: a style-transfer model, None for none, or "shipped" for the shipped one;
-    ``songs``: what the robot can sing (the run's dance routines)."""
+    ``songs``: what the robot can sing (the run's dance routines; default the shipped ones)."""
     weather = (load_weather(scenario.weather.model_dump(exclude_none=True))
                if scenario.weather is not None else load_weather())
     home = lookup(weather.home_city) if weather.home_city else None

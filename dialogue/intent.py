@@ -23,7 +23,7 @@ import numpy as np
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import DialogueError
 from dialogue.qa.knowledge import KnowledgeBase
-from dialogue.qa.music import SONGS
+from dialogue.qa.music import shipped_songs
 from dialogue.qa.places import COMMON, TIME_WORDS, known_place
 from dialogue.qa.text import STOPWORDS, ngrams, normalise
 
@@ -87,7 +87,9 @@ def _topics() -> frozenset[str]:
     return frozenset(KnowledgeBase.load().index)
 
 
-SONG_NAMES = frozenset(normalise(c) for cues in SONGS.values() for c in cues)
+@cache
+def _song_names() -> frozenset[str]:
+    return frozenset(normalise(c) for cues in shipped_songs().values() for c in cues)
 
 
 def mask_entities(text: str) -> str:
@@ -99,7 +101,7 @@ def mask_entities(text: str) -> str:
     for i, j, phrase in ngrams(words, 4):
         if any(used[i:j]) or phrase in STOPWORDS or phrase in COMMON or phrase in TIME_WORDS:
             continue
-        if phrase in SONG_NAMES:
+        if phrase in _song_names():
             tag = "zsong"
         elif phrase.removeprefix("the ") in _topics():
             tag = "ztopic"

@@ -18,6 +18,8 @@ from behaviours.skill import people_in_view
 from behaviours.skills import find_people
 from behaviours.skills.box_steering import has_face
 from perception.detector.yolo import Detection, YoloDetector
+from perception.facing.config import DEFAULT_FACING_MODEL
+from perception.facing.model import FacingEstimator
 
 ROOT = Path(__file__).resolve().parents[1]
 WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.onnx",
@@ -50,11 +52,11 @@ def living_room(robot: Placement, person: Start | None, personality: Path | None
                                    "robot": base.robot.model_copy(update={"start": robot})})
 
 
-def find(scenario, detector, config=None, max_seconds=45.0):
+def find(scenario, detector, config=None, max_seconds=45.0, facing=None):
     """Run the skill; the status, the event log, the robot's final pose and the context.
     The skill must have handed the camera back to its scenario rate and stopped the base."""
     with Simulation(scenario) as sim:
-        ctx = make_context(sim, config, detector)
+        ctx = make_context(sim, config, detector, facing=facing)
         status, _ = run_skill(sim, ctx, find_people.build(ctx), "find_people", max_seconds)
         assert py_trees.blackboard.Blackboard.get("/tracking") == 0.0
         assert ctx.robot.base_velocity == (0.0, 0.0, 0.0)
@@ -120,6 +122,24 @@ def test_a_person_showing_their_back_is_not_greeted(detector):
     assert status == Status.FAILURE
     assert events.of_kind("no_face") and not events.of_kind("person_found")
     assert not events.of_kind("say")
+
+
+def test_a_seated_person_facing_away_is_greeted_from_the_front(detector, short_relief):
+    # Tom sits with his back to the robot (as a resident facing a table or the television
+    # would); the facing model reads it from his box, the robot drives round to a spot in
+    # front of him and greets him there, where he can see it.
+    person = Start(x=1.8, y=2.2, yaw=190.0, pose="sitting")
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=180.0), person, short_relief)
+    facing = FacingEstimator.load(DEFAULT_FACING_MODEL)
+    status, events, (x, y, yaw), _ = find(scenario, detector, facing=facing)
+    assert status == Status.SUCCESS
+    assert any(e["front_deg"] is not None for e in events.of_kind("detour"))
+    gaze = math.remainder(math.atan2(y - person.y, x - person.x) - math.radians(person.yaw),
+                          math.tau)
+    assert abs(math.degrees(gaze)) <= 45.0                  # in his view
+    assert 0.7 <= math.hypot(person.x - x, person.y - y) <= 1.5
+    bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
+    assert abs(math.degrees(bearing)) < 5.0                 # and facing him
 
 
 class FlickeringFalsePositive:

@@ -14,7 +14,7 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat, create_model, model
 
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
 from app.core.paths import DEFAULTS_DIR
-from app.sim.robot import JOINT_NAMES
+from app.sim.joints import JOINT_NAMES
 from app.sim.speech import speech_seconds
 
 DEFAULT_DANCES = DEFAULTS_DIR / "dances.yaml"

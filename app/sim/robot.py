@@ -22,15 +22,10 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
 from app.sim.hearing import MicrophonesConfig
+from app.sim.joints import JOINT_NAMES
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
-JOINT_NAMES = (
-    "HeadYaw", "HeadPitch",
-    "LShoulderPitch", "LShoulderRoll", "LElbowYaw", "LElbowRoll", "LWristYaw",
-    "RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw",
-    "HipRoll", "HipPitch", "KneePitch",
-)
 Pose = tuple[float, float, float]
 
 

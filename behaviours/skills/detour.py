@@ -1,5 +1,6 @@
 """Detours of the find-people skill: with furniture between the robot and the person it
-follows, drive around it on the household's floor map (docs/find_people.md).
+follows, or the person turned away from the robot, drive around on the household's floor
+map (docs/find_people.md).
 
 The person's floor position is estimated from their box (:meth:`BoxSteering.locate`). The
 robot plans on the static occupancy grid of walls and furniture (the map knows no people) to
@@ -15,13 +16,15 @@ import math
 
 from app.sim.navigation import Navigator, Point, Velocity
 from app.sim.robot import wrap_angle
-from app.sim.world import Pose2D
+from app.sim.world import Footprint, Pose2D
 from behaviours.context import Context
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
 LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate
 SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to furniture (not the robot's
                                        # radius: the camera looks over a table's corner)
+PERSON_HALF_M = 0.4                    # the path keeps the robot's radius off this square
+                                       # around the person's estimate (a seated person's knees)
 
 
 class Detour:
@@ -60,18 +63,24 @@ class Detour:
                 out.append(spot)
         return out
 
-    def start(self, robot: Point, person: Point) -> list[Point] | None:
+    def start(self, robot: Point, person: Point, front: float | None = None
+              ) -> list[Point] | None:
         """Plan a detour towards ``person``; the path, or None when there is none. A spot
         costs its path length plus ``detour_arc_weight`` times the arc (m) around the person
-        from the robot's side: the robot saw them from there, so their front is likelier
+        from their ``front`` (the world direction they look in, when the robot could tell),
+        else from the robot's side: the robot saw them from there, so their front is likelier
         that way."""
         spots = self.spots(person)
-        side = math.atan2(robot[1] - person[1], robot[0] - person[0])
+        side = math.atan2(robot[1] - person[1], robot[0] - person[0]) if front is None else front
         arcs = [self.cfg.detour_distance_m * abs(wrap_angle(
             math.atan2(y - person[1], x - person[0]) - side)) for x, y in spots]
         goal = self.planner.nearest_goal(robot, spots,
                                          [self.cfg.detour_arc_weight * a for a in arcs])
-        path = None if goal is None else self.planner.plan(robot, goal)
+        # the map knows no people: the one the robot goes round is blocked as it was seen
+        seen = Footprint("person", "person", person[0], person[1], 0.0, PERSON_HALF_M,
+                         PERSON_HALF_M)
+        path = (None if goal is None
+                else self.planner.plan(robot, goal, self.planner.grid.with_obstacles([seen])))
         if path is not None:
             self.follower.start(path)
             self.target, self.active, self._turning = person, True, False

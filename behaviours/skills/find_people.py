@@ -57,6 +57,7 @@ class ApproachPerson(BoxSteering):
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
         self._spot: tuple[float, float] | None = None   # where the followed person stands
         self._detours = 0                        # detours taken for the followed person
+        self._front = [0.0, 0.0, 0]              # their facing: summed unit vector, frames
 
     def setup(self, **kwargs: Any) -> None:
         super().setup(**kwargs)
@@ -74,6 +75,10 @@ class ApproachPerson(BoxSteering):
         self._ignored, self._vanished, self._spot = {}, {}, None
         self.detour.cancel()
         self._detours = 0
+        self._forget_front()
+
+    def _forget_front(self) -> None:
+        self._front = [0.0, 0.0, 0]
 
     def update(self) -> Status:
         if self.now - self._start >= self.cfg.timeout_s:
@@ -110,6 +115,7 @@ class ApproachPerson(BoxSteering):
                 self._count_vanished()
             self._detours = 0
             self._spot = None
+            self._forget_front()
             self.forget()
             self.heading.reset()
             self.approach.reset()
@@ -142,6 +148,11 @@ class ApproachPerson(BoxSteering):
         if near and not math.isfinite(self._near_since):
             self._near_since = self.now
         arrived = near and abs(offset) <= cfg.centre_tolerance
+        front = self._facing(person, dist)
+        if (front is not None and self._faces < cfg.face_frames
+                and self._detours < cfg.max_detours
+                and self._start_detour(person, front, to_front=True)):
+            return self._drive_detour()
         if arrived and self._faces >= cfg.face_frames:
             self.command(0.0, 0.0, 0.0)
             self.emit("person_found", box=[round(v, 1) for v in person.box],
@@ -157,24 +168,55 @@ class ApproachPerson(BoxSteering):
             self.command(vx, self._orbit(waited) * cfg.orbit_speed, wz)
         elif arrived:
             self.command(0.0, 0.0, 0.0)
-        elif not (close or self._detours >= cfg.max_detours) and self._start_detour(person):
+        elif (not (close or self._detours >= cfg.max_detours)
+              and self._start_detour(person, self._front_guess())):
             return self._drive_detour()
         else:
             self.command(*self._avoid(vx, wz))
         return Status.RUNNING
 
-    def _start_detour(self, person: Detection) -> bool:
-        """Plan a detour when the map has furniture between the robot and the person."""
+    def _facing(self, person: Detection, dist: float | None) -> float | None:
+        """The world direction the followed person looks in, once the facing model has read
+        it confidently in ``facing_frames`` frames within ``facing_max_distance_m``, and
+        only when they do not look at the robot (within ``front_tolerance_deg``); else None."""
+        cfg, sense = self.cfg, self.ctx.facing
+        spot = self.locate(person)
+        if sense is None or dist is None or spot is None or dist > cfg.facing_max_distance_m:
+            return None
+        x, y, _ = self.ctx.robot.pose()
+        to_robot = math.atan2(y - spot[1], x - spot[0])
+        seen = sense.facing(self.bb.frame, person.box)
+        if seen.confidence >= cfg.facing_min_confidence:
+            world = to_robot + seen.angle
+            self._front = [self._front[0] + math.cos(world), self._front[1] + math.sin(world),
+                           self._front[2] + 1]
+        front = self._front_guess()
+        if front is None or self._front[2] < cfg.facing_frames:
+            return None
+        turned = abs(math.remainder(front - to_robot, math.tau))
+        return front if turned > math.radians(cfg.front_tolerance_deg) else None
+
+    def _front_guess(self) -> float | None:
+        """The mean of the facing readings so far (world direction), or None."""
+        return math.atan2(self._front[1], self._front[0]) if self._front[2] else None
+
+    def _start_detour(self, person: Detection, front: float | None = None,
+                      to_front: bool = False) -> bool:
+        """Plan a detour when the map has furniture between the robot and the person, or,
+        ``to_front``, because they look away from the robot; either way towards the spot
+        nearest their ``front`` when the facing model has read it."""
         spot = self.locate(person)
         x, y, _ = self.ctx.robot.pose()
-        if spot is None or not self.detour.obstructed((x, y), spot):
+        if spot is None or not (to_front or self.detour.obstructed((x, y), spot)):
             return False
-        path = self.detour.start((x, y), spot)
+        path = self.detour.start((x, y), spot, front)
         if path is None:
             return False
         self._detours += 1
+        self._forget_front()   # read their facing afresh from where the detour ends
         self.emit("detour", person=[round(v, 2) for v in spot],
-                  waypoints=[[round(a, 2), round(b, 2)] for a, b in path])
+                  waypoints=[[round(a, 2), round(b, 2)] for a, b in path],
+                  front_deg=None if front is None else round(math.degrees(front), 1))
         return True
 
     def _drive_detour(self) -> Status:

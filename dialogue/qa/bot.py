@@ -13,7 +13,7 @@ from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.clock import Clock, answer_time, utc_now
 from dialogue.qa.home_map import Household, answer_map
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
-from dialogue.qa.music import SONGS, Songs, answer_music
+from dialogue.qa.music import Songs, answer_music
 from dialogue.qa.news import SAMPLE_FEED, answer_news
 from dialogue.qa.photo import TakePhoto, answer_photo
 from dialogue.qa.weather import ScenarioWeather, WeatherProvider, answer_weather
@@ -36,7 +36,7 @@ class QABot:
                  feed: str | Path | None = SAMPLE_FEED, knowledge: KnowledgeBase | None = None,
                  household: Household | None = None, out_dir: str | Path | None = None,
                  clock: Clock = utc_now, home_city: str | None = None,
-                 take_photo: TakePhoto | None = None, songs: Songs = SONGS) -> None:
+                 take_photo: TakePhoto | None = None, songs: Songs | None = None) -> None:
         self.weather = weather
         self.feed = feed
         self.knowledge = knowledge if knowledge is not None else KnowledgeBase.load()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping, Sequence
+from functools import cache
 from urllib.parse import quote_plus
 
 from app.sim.dances import song_names
@@ -17,7 +18,13 @@ from dialogue.qa.base import Action, Answer
 from dialogue.qa.text import normalise, word_set
 
 Songs = Mapping[str, Sequence[str]]   # title -> the phrases that ask for it
-SONGS: Songs = song_names()          # the shipped routines
+
+
+@cache
+def shipped_songs() -> Songs:
+    """The songs of the shipped routines file (``app/defaults/dances.yaml``)."""
+    return song_names()
+
 GENERIC = word_set("""a an the some any music song songs something anything tune tunes calm
 nice happy cheerful relaxing soft quiet lively little favourite favorite us me dance dancing bit
 few again please for with now to tonight one another more your our my you robot something's
@@ -45,8 +52,10 @@ def _asked_title(text: str) -> str | None:
     return " ".join(words) if any(w not in GENERIC for w in words) else None
 
 
-def answer_music(text: str, songs: Songs = SONGS) -> Answer:
-    """Ask the robot to sing and dance the named song of ``songs`` (or the first one)."""
+def answer_music(text: str, songs: Songs | None = None) -> Answer:
+    """Ask the robot to sing and dance the named song of ``songs`` (default: the shipped
+    routines), or the first one."""
+    songs = songs or shipped_songs()
     t = normalise(text)
     song = _known(t, songs)
     if song is None:

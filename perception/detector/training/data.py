@@ -10,7 +10,8 @@ occluded instances. :func:`write_dataset` writes an ultralytics YOLO data set.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -222,8 +223,9 @@ class DetectorScene:
         bodies, links = decode_segmentation(seg)
         return rgb, bodies, links
 
-    def render(self, spec: SceneSpec) -> Frame:
-        """Build the scene, render it, label it, and remove what was built."""
+    @contextmanager
+    def _built(self, spec: SceneSpec) -> Iterator[tuple[list[Person], list[int]]]:
+        """The scene built in the client (its people and other bodies), removed on exit."""
         built = [build_body(self.client, "room", room_parts(spec))]
         for f in spec.furniture:
             parts, _ = furniture_parts(f.kind, *f.size, f.colour)
@@ -233,16 +235,35 @@ class DetectorScene:
         self.robot.set_lighting(spec.light.camera_kwargs())
         p.resetJointState(self.robot.body_id, self._head_pitch, spec.head_pitch,
                           physicsClientId=self.client)
-        ids = [(q.body_id, q.face_links) for q in people]
         try:
-            rgb, bodies, links = self._render()
-            boxes = self._label(spec, people, built, bodies, links)
+            yield people, built
         finally:
             for body in built:
                 p.removeBody(body, physicsClientId=self.client)
             for person in people:
                 person.remove()
+
+    def render(self, spec: SceneSpec) -> Frame:
+        """Build the scene, render it, label it, and remove what was built."""
+        with self._built(spec) as (people, built):
+            ids = [(q.body_id, q.face_links) for q in people]
+            rgb, bodies, links = self._render()
+            boxes = self._label(spec, people, built, bodies, links)
         return Frame(rgb, boxes, bodies, links, ids)
+
+    def people_in_frame(self, spec: SceneSpec) -> tuple[np.ndarray, list[tuple[int, Box, float]]]:
+        """The frame of ``spec`` and, per visible person, their index in ``spec.people``,
+        their box and the share of them visible (pixels over those rendered alone)."""
+        seen = []
+        with self._built(spec) as (people, built):
+            rgb, bodies, _ = self._render()
+            for i, person in enumerate(people):
+                mine = bodies == person.body_id
+                if mine.any():
+                    others = [*built, *(o.body_id for o in people if o is not person)]
+                    alone, _ = self._alone(person, others)
+                    seen.append((i, _extent(mine, 0), float(mine.sum()) / max(1, alone)))
+        return rgb, seen
 
     def _alone(self, person: Person, others: list[int]) -> tuple[int, int]:
         """Pixel counts of the person and its face rendered with every other body parked away."""

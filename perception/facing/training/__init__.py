@@ -1,0 +1,1 @@
+"""The facing model's rendered crops, training and evaluation (not loaded by the robot)."""
