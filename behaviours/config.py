@@ -103,6 +103,7 @@ class FindPeopleConfig(StrictModel):
     facing_min_confidence: float = Field(ge=0, le=1)
     facing_frames: PositiveInt
     facing_max_distance_m: PositiveFloat
+    away_deg: float = Field(gt=0, le=180)
     front_tolerance_deg: float = Field(gt=0, le=180)
     timeout_s: PositiveFloat
 

@@ -25,6 +25,8 @@ SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to furniture (n
                                        # radius: the camera looks over a table's corner)
 PERSON_HALF_M = 0.4                    # the path keeps the robot's radius off this square
                                        # around the person's estimate (a seated person's knees)
+SNAP_M = 0.3                           # a path starting further than this from the robot
+                                       # does not connect to where it stands
 
 
 class Detour:
@@ -76,14 +78,21 @@ class Detour:
             math.atan2(y - person[1], x - person[0]) - side)) for x, y in spots]
         goal = self.planner.nearest_goal(robot, spots,
                                          [self.cfg.detour_arc_weight * a for a in arcs])
-        # the map knows no people: the one the robot goes round is blocked as it was seen
-        seen = Footprint("person", "person", person[0], person[1], 0.0, PERSON_HALF_M,
-                         PERSON_HALF_M)
-        path = (None if goal is None
-                else self.planner.plan(robot, goal, self.planner.grid.with_obstacles([seen])))
+        path = None if goal is None else self._plan(robot, goal, person)
         if path is not None:
             self.follower.start(path)
             self.target, self.active, self._turning = person, True, False
+        return path
+
+    def _plan(self, robot: Point, goal: Point, person: Point) -> list[Point] | None:
+        """A path to ``goal`` that keeps off the person as the robot saw them (the map knows
+        no people); where blocking them would cut the robot off from the goal (they stand in
+        a narrow gap), the path on the map alone."""
+        seen = Footprint("person", "person", person[0], person[1], 0.0, PERSON_HALF_M,
+                         PERSON_HALF_M)
+        path = self.planner.plan(robot, goal, self.planner.grid.with_obstacles([seen]))
+        if path is None or math.dist(path[0], robot) > SNAP_M:
+            path = self.planner.plan(robot, goal)
         return path
 
     def cancel(self) -> None:

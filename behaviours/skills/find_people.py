@@ -148,10 +148,13 @@ class ApproachPerson(BoxSteering):
         if near and not math.isfinite(self._near_since):
             self._near_since = self.now
         arrived = near and abs(offset) <= cfg.centre_tolerance
-        front = self._facing(person, dist)
-        if (front is not None and self._faces < cfg.face_frames
-                and self._detours < cfg.max_detours
-                and self._start_detour(person, front, to_front=True)):
+        near_at = self._near_since if math.isfinite(self._near_since) else math.inf
+        face_clock = min(near_at, self._close_since + cfg.backoff_s)
+        waited = max(0.0, self.now - face_clock) if close else 0.0
+        reading = self._facing(person, dist)
+        if (reading is not None and self._faces < cfg.face_frames
+                and self._detours < cfg.max_detours and self._to_front(reading[1], waited)
+                and self._start_detour(person, reading[0], to_front=True)):
             return self._drive_detour()
         if arrived and self._faces >= cfg.face_frames:
             self.command(0.0, 0.0, 0.0)
@@ -159,9 +162,6 @@ class ApproachPerson(BoxSteering):
                       bearing_deg=round(math.degrees(self.bearing(person)), 2),
                       face_frames=self._faces, after_s=round(self.now - self._start, 2))
             return Status.SUCCESS
-        near_at = self._near_since if math.isfinite(self._near_since) else math.inf
-        face_clock = min(near_at, self._close_since + cfg.backoff_s)
-        waited = max(0.0, self.now - face_clock) if close else 0.0
         if waited >= cfg.face_wait_s + 3 * cfg.orbit_s:
             self._give_up(person)
         elif waited >= cfg.face_wait_s:
@@ -175,10 +175,10 @@ class ApproachPerson(BoxSteering):
             self.command(*self._avoid(vx, wz))
         return Status.RUNNING
 
-    def _facing(self, person: Detection, dist: float | None) -> float | None:
-        """The world direction the followed person looks in, once the facing model has read
-        it confidently in ``facing_frames`` frames within ``facing_max_distance_m``, and
-        only when they do not look at the robot (within ``front_tolerance_deg``); else None."""
+    def _facing(self, person: Detection, dist: float | None) -> tuple[float, float] | None:
+        """The world direction the followed person looks in and how far (rad) that is from
+        looking at the robot, once the facing model has read it confidently in
+        ``facing_frames`` frames within ``facing_max_distance_m``; else None."""
         cfg, sense = self.cfg, self.ctx.facing
         spot = self.locate(person)
         if sense is None or dist is None or spot is None or dist > cfg.facing_max_distance_m:
@@ -193,8 +193,15 @@ class ApproachPerson(BoxSteering):
         front = self._front_guess()
         if front is None or self._front[2] < cfg.facing_frames:
             return None
-        turned = abs(math.remainder(front - to_robot, math.tau))
-        return front if turned > math.radians(cfg.front_tolerance_deg) else None
+        return front, abs(math.remainder(front - to_robot, math.tau))
+
+    def _to_front(self, turned: float, waited: float) -> bool:
+        """Whether to go round to the person's front: they look more than ``away_deg`` away
+        from the robot (their face cannot show from here), or, near them with no face for
+        ``face_wait_s``, more than ``front_tolerance_deg`` away."""
+        cfg = self.cfg
+        return (turned > math.radians(cfg.away_deg)
+                or (waited >= cfg.face_wait_s and turned > math.radians(cfg.front_tolerance_deg)))
 
     def _front_guess(self) -> float | None:
         """The mean of the facing readings so far (world direction), or None."""
