@@ -204,11 +204,12 @@ class Planner:
         unless it had to be snapped, the last is ``goal`` unless it had to be snapped."""
         grid = grid or self.grid
         goal_cell = grid.nearest(grid.cell(*goal))
-        reachable = np.zeros_like(grid.blocked)
+        # the free cells that connect to the goal: a diagonal step needs both cells beside
+        # it free (grid_graph), so these are the goal's 4-connected component
+        labels, _ = ndimage.label(~grid.blocked)
+        reachable = labels == labels[goal_cell]
         extra = np.argwhere(grid.blocked & ~self.grid.blocked)
         free_graph = nx.restricted_view(self.graph, [tuple(c) for c in extra.tolist()], [])
-        for cell in nx.node_connected_component(free_graph, goal_cell):
-            reachable[cell] = True
         start_cell = grid.nearest(grid.cell(*start), reachable)
         if not reachable[start_cell]:
             return None
