@@ -39,7 +39,7 @@ from perception.facing.model import FacingEstimator
 from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import load_vqg_data_config
-from perception.vqg.training.household import household_scene, judge_question
+from perception.vqg.training.household import check_occasion, household_scene, judge_question
 
 
 class FrameSaver:
@@ -85,6 +85,7 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     """Build the world, the robot's services (detector, facing model, dialogue, question
     generator, policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
     ask-question skill fails (it has no canned questions)."""
+    check_occasion(scenario)   # before anything is built or written
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
     policy = DQNPolicy.load(policy_path or DEFAULT_POLICY)

@@ -9,6 +9,7 @@ from pathlib import Path
 import cv2
 import pytest
 
+from app.cli import main
 from app.core.config_files import ConfigError
 from app.sim.simulation import Simulation
 from perception.vqg.config import load_vqg_config
@@ -78,3 +79,12 @@ def test_eval_household_scores_the_frames_runs_saved(living_room, tmp_path):
     assert set(result["pass"]) == set(cfg.eval.household_bars)
     with pytest.raises(VqgDataError, match="no frames"):
         evaluate_household(DEFAULT_VQG_MODEL, cfg, [tmp_path / "empty"], samples=10)
+
+
+def test_a_run_with_an_unknown_occasion_exits_2_before_it_starts(tmp_path, capsys):
+    scenario = tmp_path / "odd.yaml"
+    text = (WORLDS / "living_room.yaml").read_text()
+    scenario.write_text(text.replace("name: living_room", "name: odd\noccasion: wedding", 1))
+    assert main(["run", str(scenario), "--out", str(tmp_path / "run")]) == 2
+    assert "occasion" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()

@@ -21,7 +21,7 @@ import numpy as np
 
 from app.core.config_files import ConfigError
 from app.sim.robot import decode_segmentation
-from app.sim.scenario import rgb
+from app.sim.scenario import Scenario, rgb
 from app.sim.simulation import Simulation
 from app.sim.world import FURNITURE_COLOURS, OBJECT_COLOURS
 from perception.vqg.config import VqgConfig
@@ -98,12 +98,17 @@ def world_nodes(sim: Simulation) -> tuple[list[Node], dict[str, int]]:
     return nodes, ids
 
 
+def check_occasion(scenario: Scenario) -> None:
+    """Raise :class:`ConfigError` unless the scenario's ``occasion`` is one the scenes know."""
+    if scenario.occasion not in ACTIVITY_MIX:
+        raise ConfigError(f"scenario {scenario.name!r}", [
+            f"occasion: {scenario.occasion!r} is not one of {', '.join(ACTIVITY_MIX)}"])
+
+
 def household_scene(sim: Simulation, visibility: VisibilityConfig
                     ) -> tuple[np.ndarray, SceneGraph]:
     """The robot's head-camera frame now and the scene graph of what it shows."""
-    if sim.scenario.occasion not in ACTIVITY_MIX:
-        raise ConfigError(f"scenario {sim.scenario.name!r}", [
-            f"occasion: {sim.scenario.occasion!r} is not one of {', '.join(ACTIVITY_MIX)}"])
+    check_occasion(sim.scenario)
     frame, mask = sim.robot.camera_frame_with_segmentation()
     bodies, links = decode_segmentation(mask)
     nodes, ids = world_nodes(sim)
