@@ -40,6 +40,10 @@ KEYS = {
     "request": "Action | None: what a reply promised to do (sing a song), started next",
     "listening_to": "float | None: world bearing (rad) of the voice being answered",
     "tracking": "float: camera rate (Hz) a skill steering by person boxes asks for; 0: none",
+    "people_seen": "list[(x, y, t)]: where (m, world) and when the robot located people, "
+                   "this run (find people's memory)",
+    "rooms_searched": "dict[str, float]: room -> when find people last looked round there "
+                      "and greeted nobody",
 }
 
 
@@ -68,6 +72,7 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
         "action": None, "relieving": False, "progress": 0, "act_status": None,
         "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "heard": [],
         "must_finish": False, "request": None, "listening_to": None, "tracking": 0.0,
+        "people_seen": [], "rooms_searched": {},
     }
     assert values.keys() == KEYS.keys(), sorted(values.keys() ^ KEYS.keys())
     return values

@@ -88,6 +88,7 @@ class FindPeopleConfig(StrictModel):
     lost_after_s: PositiveFloat
     face_region: float = Field(gt=0, le=1)
     face_min_conf: float = Field(gt=0, lt=1)
+    cut_face_region: float = Field(ge=0, le=1)
     face_frames: PositiveInt
     face_wait_s: PositiveFloat
     backoff_s: PositiveFloat
@@ -105,6 +106,12 @@ class FindPeopleConfig(StrictModel):
     facing_max_distance_m: PositiveFloat
     away_deg: float = Field(gt=0, le=180)
     front_tolerance_deg: float = Field(gt=0, le=180)
+    greet_max_m: PositiveFloat
+    max_person_width_m: PositiveFloat
+    look_around_turns: PositiveFloat
+    sighting_memory_s: PositiveFloat
+    sightings_kept: PositiveInt
+    revisit_min_m: PositiveFloat
     timeout_s: PositiveFloat
 
 
@@ -144,6 +151,7 @@ class ListeningConfig(StrictModel):
     answer_tolerance_deg: float = Field(gt=0, le=90)
     answer_wait_s: float = Field(ge=0)
     promise: str
+    promise_action: str
     activities: dict[str, str]
 
 

@@ -2,8 +2,8 @@
 
 1. **Safety.** A critical energy drive pre-empts whatever runs: the action switches to
    charge. That charge, and a rest begun while the motors are overheated, must finish
-   (``must_finish``): a line said meanwhile gets a promise (:class:`behaviours.listening.
-   Promise`) and is answered afterwards.
+   (``must_finish``): a line said meanwhile is answered by voice from where the robot is
+   (:class:`behaviours.listening.Promise`); a song it asks for is promised for afterwards.
 2. **Spoken to.** A line waiting to be answered pre-empts any other action: the action
    switches to chat, which turns to the voice and answers. Once a reply has asked for
    something (a song: ``request``), that action starts next.

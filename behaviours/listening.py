@@ -3,9 +3,12 @@ outside any one skill.
 
 - :func:`pending`: the queued lines still worth answering (a line older than
   ``chat.max_heard_age_s`` is dropped, unless the robot promised to answer it);
+- :func:`reply_to`: answer one line through the dialogue manager (the chat skill's
+  Converse and Promise);
 - :class:`Promise`: while a safety action must finish (charging on critical energy, resting
-  when overheated), the robot tells each new speaker that it will come back to them and
-  marks their line promised; Decide starts the chat once the safety action is over;
+  when overheated) the base stays put, but the robot still talks: it answers each new line
+  by voice at once, and what a reply asks of its body (a song and dance) it promises for
+  afterwards; Decide starts that request once the safety action is over;
 - :class:`FaceSpeaker`: turns the head, then the base, to the voice being answered.
 """
 
@@ -20,6 +23,7 @@ from app.sim.hearing import HeardLine
 from app.sim.robot import wrap_angle
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
+from dialogue.manager import Reply
 
 
 def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardLine]:
@@ -35,24 +39,53 @@ def head_error(ctx: Context, bearing: float) -> float:
     return wrap_angle(bearing - yaw)
 
 
+def reply_to(behaviour: ContextBehaviour, said: HeardLine, positive: bool,
+             promise: str = "") -> tuple[Reply, float]:
+    """Answer the line ``said`` through the dialogue manager in the robot's mood: say the
+    reply (followed by ``promise`` when the reply asks for an action, which the caller
+    starts later) and show its tablet page. The reply, and how long saying it takes (s)."""
+    ctx, mood = behaviour.ctx, "positive" if positive else "negative"
+    reply = ctx.dialogue.respond(said.text, mood)
+    text = f"{reply.text} {promise}" if promise and reply.action is not None else reply.text
+    seconds = ctx.speaker.say(text, behaviour=behaviour.name, to=said.person, line=said.line,
+                              in_reply_to=said.text, route=reply.route, found=reply.found,
+                              mood=mood)
+    if reply.tablet:
+        behaviour.emit("tablet", page=reply.tablet, line=said.line)
+    return reply, seconds
+
+
 class Promise(ContextBehaviour):
-    """Always SUCCESS. While ``must_finish``, say the promise to each new line's speaker and
-    mark the line promised."""
+    """Always SUCCESS. While ``must_finish``: answer each new line at once by voice, one at a
+    time, the base staying put; a reply asking for a song is followed by the promise to do
+    it once the safety action is over (``request`` is set; Decide starts it then). Without a
+    dialogue manager, tell each new speaker that the robot will come back to them, and mark
+    their lines promised (the chat answers them afterwards)."""
 
     def __init__(self, ctx: Context, name: str = "Promise") -> None:
-        super().__init__(name, ctx, reads=("must_finish", "action"), writes=("heard",))
+        super().__init__(name, ctx, reads=("must_finish", "action", "mood"),
+                         writes=("heard", "request"))
+        self._busy_until = -math.inf
 
     def update(self) -> Status:
-        if not self.bb.must_finish:
-            return Status.SUCCESS
         fresh = [line for line in self.bb.heard if not line.promised]
-        if fresh:
-            cfg = self.ctx.config.listening
-            text = cfg.promise.format(activity=cfg.activities.get(self.bb.action, "finish this"))
-            self.ctx.speaker.say(text, behaviour=self.name, to=fresh[0].person,
-                                 lines=[line.line for line in fresh])
+        if not self.bb.must_finish or not fresh or self.now < self._busy_until:
+            return Status.SUCCESS
+        cfg = self.ctx.config.listening
+        activity = cfg.activities.get(self.bb.action, "finish this")
+        if self.ctx.dialogue is None:
+            self.ctx.speaker.say(cfg.promise.format(activity=activity), behaviour=self.name,
+                                 to=fresh[0].person, lines=[line.line for line in fresh])
             self.bb.heard = [dataclasses.replace(line, promised=True) if not line.promised
                              else line for line in self.bb.heard]
+            return Status.SUCCESS
+        said = fresh[0]
+        reply, seconds = reply_to(self, said, self.bb.mood["positive"],
+                                  cfg.promise_action.format(activity=activity))
+        self._busy_until = self.now + seconds
+        self.bb.heard = [line for line in self.bb.heard if line is not said]
+        if reply.action is not None and reply.action.name == "sing_dance":
+            self.bb.request = reply.action
         return Status.SUCCESS
 
 

@@ -7,7 +7,7 @@
     ├── Homeostasis   drives, motivations and mood, once per homeostasis step
     ├── Decide        safety first (low energy pre-empts), then answering whoever spoke,
     │                 then the DQN's pick when the last action ended
-    ├── Promise       during a safety action: "I'll come back to you" to each new speaker
+    ├── Promise       during a safety action: answer by voice, promise a song for after
     └── Act           status mirrored to the blackboard's ``act_status``
         └── Actions (selector)
             ├── charge?  guard: action == "charge"  -> the charge skill subtree

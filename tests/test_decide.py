@@ -19,7 +19,9 @@ from behaviours.config import load_behaviour_config
 from behaviours.context import Context, SimClock
 from behaviours.decide import Decide
 from behaviours.listening import Promise
+from dialogue.manager import DialogueManager
 from dialogue.qa.base import Action
+from dialogue.qa.bot import QABot
 
 
 class Always:
@@ -78,9 +80,9 @@ def test_critical_energy_preempts_for_charging(setup):
     assert finish(decide, bb, Status.RUNNING) == "charge"  # not pre-empted again
 
 
-def line(ctx, text: str = "What time is it?", promised: bool = False):
-    """A line heard now from straight ahead."""
-    return HeardLine(1, ctx.now, "Grace", text, "robot", 0.0, promised)
+def line(ctx, text: str = "What time is it?", promised: bool = False, n: int = 1):
+    """Line ``n``, heard now from straight ahead."""
+    return HeardLine(n, ctx.now, "Grace", text, "robot", 0.0, promised)
 
 
 @pytest.fixture
@@ -143,3 +145,29 @@ def test_during_a_critical_charge_each_new_speaker_gets_one_promise(listening):
     bb.heard = [line(ctx, "Hello?")]
     promise.update()
     assert len(ctx.events.of_kind("say")) == 1  # a chat may be interrupted: no promise
+
+
+def test_during_a_critical_charge_lines_are_answered_at_once_and_songs_promised(listening,
+                                                                                 tmp_path):
+    decide, bb, ctx = listening
+    ctx.speaker = Speaker(ctx.events)
+    ctx.dialogue = DialogueManager(QABot.offline(out_dir=tmp_path))
+    promise = Promise(ctx)
+    bb.act_status = Status.RUNNING
+    bb.drives = np.array([ctx.config.preempt_energy, 0.5, 0.5, 0.5, 0.5, 0.5])
+    decide.update()
+    bb.heard = [line(ctx, "What time is it?"), line(ctx, "Can you sing Happy Birthday?", n=2)]
+    promise.update()
+    said = ctx.events.of_kind("say")
+    assert len(said) == 1 and said[0]["line"] == 1 and said[0]["in_reply_to"] == "What time is it?"
+    promise.update()                      # still saying the first reply
+    assert len(ctx.events.of_kind("say")) == 1
+    ctx.clock.t += 10.0
+    promise.update()
+    song = ctx.events.of_kind("say")[-1]
+    assert song["in_reply_to"] == "Can you sing Happy Birthday?"
+    assert song["text"].endswith("I'll do it right after I charge my battery.")
+    assert bb.heard == [] and bb.request.name == "sing_dance"
+    assert finish(decide, bb, Status.RUNNING) == "charge"     # the charge goes on
+    bb.drives = np.full(6, 0.5)
+    assert finish(decide, bb, Status.SUCCESS) == "sing_dance"

@@ -3,8 +3,9 @@ follower for the omnidirectional base (docs/navigation.md).
 
 - :class:`OccupancyGrid`: square cells over the rooms; a cell is blocked when its centre lies
   within the robot's radius of an obstacle footprint or of the outside of the house.
-- :class:`Planner`: A* (networkx) on the 8-connected graph of a static grid's free cells,
-  start and goal snapped to the nearest free cell, the path shortened by line of sight.
+- :class:`Planner`: shortest paths (scipy's compiled Dijkstra) on the 8-connected graph of
+  a static grid's free cells, start and goal snapped to the nearest free cell, the path
+  shortened by line of sight.
 - :class:`PathFollower`: two simple-pid controllers, heading error -> turn rate and
   remaining distance -> forward speed, the speed cut while the heading error is large.
 """
@@ -14,12 +15,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Sequence
 from functools import cached_property, lru_cache
-from itertools import repeat
 from typing import Protocol
 
-import networkx as nx
 import numpy as np
-from scipy import ndimage
+from scipy import ndimage, sparse
+from scipy.sparse import csgraph
 from simple_pid import PID
 
 from app.sim.robot import wrap_angle
@@ -152,23 +152,26 @@ class OccupancyGrid:
         return all(self.is_free(*q) for q in points[first:])
 
 
-def grid_graph(free: np.ndarray, resolution: float) -> nx.Graph:
-    """8-connected graph of the free cells; edges weigh their length in metres, and a
-    diagonal step needs both cells beside it free (no cutting a blocked corner)."""
-    graph = nx.Graph()
+def grid_graph(free: np.ndarray, resolution: float) -> sparse.csr_matrix:
+    """8-connected graph of the free cells as a sparse adjacency matrix over all cells (flat
+    index ``i * columns + j``; blocked cells have no edges); edges weigh their length in
+    metres, and a diagonal step needs both cells beside it free (no cutting a blocked
+    corner). Each edge is stored both ways."""
     i, j = np.nonzero(free)
-    graph.add_nodes_from(zip(i.tolist(), j.tolist(), strict=True))
     n, m = free.shape
+    rows, cols, weights = [], [], []
     for di, dj in NEIGHBOURS:
         i2, j2 = i + di, j + dj
         ok = (i2 < n) & (j2 >= 0) & (j2 < m)
         i1, j1, i2, j2 = i[ok], j[ok], i2[ok], j2[ok]
         ok = free[i2, j2] & free[i2, j1] & free[i1, j2]
-        graph.add_weighted_edges_from(zip(
-            zip(i1[ok].tolist(), j1[ok].tolist(), strict=True),
-            zip(i2[ok].tolist(), j2[ok].tolist(), strict=True),
-            repeat(resolution * math.hypot(di, dj))))
-    return graph
+        a, b = i1[ok] * m + j1[ok], i2[ok] * m + j2[ok]
+        rows += [a, b]
+        cols += [b, a]
+        weights.append(np.full(2 * len(a), resolution * math.hypot(di, dj)))
+    return sparse.csr_matrix((np.concatenate(weights), (np.concatenate(rows),
+                                                        np.concatenate(cols))),
+                             shape=(n * m, n * m))
 
 
 def shortcut(grid: OccupancyGrid, points: Sequence[Point]) -> list[Point]:
@@ -191,7 +194,7 @@ class Planner:
         self.grid = grid
 
     @cached_property
-    def graph(self) -> nx.Graph:
+    def graph(self) -> sparse.csr_matrix:
         """The free cells of the static grid as a graph (built on first use)."""
         return grid_graph(~self.grid.blocked, self.grid.resolution)
 
@@ -208,15 +211,22 @@ class Planner:
         # it free (grid_graph), so these are the goal's 4-connected component
         labels, _ = ndimage.label(~grid.blocked)
         reachable = labels == labels[goal_cell]
-        extra = np.argwhere(grid.blocked & ~self.grid.blocked)
-        free_graph = nx.restricted_view(self.graph, [tuple(c) for c in extra.tolist()], [])
         start_cell = grid.nearest(grid.cell(*start), reachable)
         if not reachable[start_cell]:
             return None
-        res = grid.resolution
-        cells = nx.astar_path(free_graph, start_cell, goal_cell,
-                              heuristic=lambda a, b: res * math.dist(a, b), weight="weight")
-        points = [grid.centre(c) for c in cells]
+        graph = self.graph
+        extra = (grid.blocked & ~self.grid.blocked).ravel()
+        if extra.any():   # the same graph without the edges of the newly blocked cells
+            keep = sparse.diags((~extra).astype(float))
+            graph = keep @ graph @ keep
+        columns = grid.blocked.shape[1]
+        flat = start_cell[0] * columns + start_cell[1]
+        _, previous = csgraph.dijkstra(graph, indices=flat, return_predecessors=True)
+        cells, at = [], goal_cell[0] * columns + goal_cell[1]
+        while at >= 0:
+            cells.append(divmod(int(at), columns))
+            at = previous[at]
+        points = [grid.centre(c) for c in reversed(cells)]
         if grid.cell(*start) == start_cell:
             points[0] = start
         if grid.cell(*goal) == goal_cell:
@@ -229,12 +239,15 @@ class Planner:
         from ``start`` (snapped to its nearest free cell) plus its ``extra`` cost (m), or
         None when none is reachable."""
         grid = self.grid
-        lengths = nx.single_source_dijkstra_path_length(
-            self.graph, grid.nearest(grid.cell(*start)), weight="weight")
-        extra = extra or [0.0] * len(goals)
-        reachable = [(lengths[c] + e, g) for g, e in zip(goals, extra, strict=True)
-                     if (c := grid.cell(*g)) in lengths]
-        return min(reachable)[1] if reachable else None
+        columns = grid.blocked.shape[1]
+        first = grid.nearest(grid.cell(*start))
+        lengths = csgraph.dijkstra(self.graph, indices=first[0] * columns + first[1])
+        costs = []
+        for goal, more in zip(goals, extra or [0.0] * len(goals), strict=True):
+            i, j = grid.cell(*goal)
+            if np.isfinite(length := lengths[i * columns + j]):   # free and reachable
+                costs.append((length + more, goal))
+        return min(costs)[1] if costs else None
 
 
 @lru_cache(maxsize=8)

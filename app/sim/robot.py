@@ -342,6 +342,20 @@ class Robot:
         if targets:
             self._posture = None
 
+    def set_joint_positions(self, angles: dict[str, float]) -> None:
+        """Teleport the named joints to ``angles`` (rad, clamped to the limits) with no ramp
+        and hold them there, e.g. to pose the head for a rendered frame."""
+        self.move_joints(angles, 1.0)
+        self._setpoint = self._setpoint.copy()
+        for name in angles:
+            i = JOINT_NAMES.index(name)
+            self._setpoint[i] = self._target[i]
+            p.resetJointState(self.body_id, self._joint_ids[i], float(self._target[i]),
+                              physicsClientId=self.client)
+        self._held = self._setpoint
+        self._joint_velocity = np.zeros(len(JOINT_NAMES))
+        self._send_motor_commands(self._setpoint, self._joint_velocity)
+
     def joint_positions(self) -> dict[str, float]:
         """Measured angle of every joint, in rad."""
         states = p.getJointStates(self.body_id, self._joint_ids, physicsClientId=self.client)

@@ -553,6 +553,10 @@ class World:
         """The robot's start pose (the caller spawns the robot there)."""
         return _pose(self.scenario.robot.start)
 
+    def furniture_top(self, name: str) -> float:
+        """Height (m) of the top of the furniture item ``name`` (KeyError: no such item)."""
+        return self._tops[name]
+
     def room_bounds(self) -> dict[str, tuple[float, float, float, float]]:
         """``(x_min, y_min, x_max, y_max)`` of each room, by name."""
         return {r.name: (r.x[0], r.y[0], r.x[1], r.y[1]) for r in self.scenario.rooms}

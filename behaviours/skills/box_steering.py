@@ -29,13 +29,17 @@ def make_pid(gains: PidGains, limit: float) -> PID:
 
 
 def has_face(person: Detection, detections: list[Detection], region: float,
-             min_conf: float) -> bool:
-    """Whether a confident face box is centred inside the upper ``region`` of ``person``."""
-    x0, y0, x1, _ = person.box
+             min_conf: float, cut_below: float = math.inf, cut_region: float = 0.0) -> bool:
+    """Whether a confident face box is centred inside the upper ``region`` of ``person``;
+    of a box that reaches ``cut_below`` (the frame's bottom row: only the head and
+    shoulders show, as of a seated person the robot looks up at), inside its upper
+    ``cut_region``."""
+    x0, y0, x1, y1 = person.box
+    share = cut_region if y1 >= cut_below else region
     for d in detections:
         cx, cy = d.centre
         if (d.cls == "face" and d.conf >= min_conf and x0 <= cx <= x1
-                and y0 <= cy <= y0 + region * person.height):
+                and y0 <= cy <= y0 + max(region, share) * person.height):
             return True
     return False
 
@@ -104,6 +108,13 @@ class BoxSteering(ContextBehaviour):
         """Floor distance (m) to the person in ``box`` in the current depth frame
         (:meth:`PersonRange.distance`), or None."""
         return self.range.distance(self.bb.depth, box)
+
+    def width_m(self, box: Detection) -> float | None:
+        """How wide (m) the box is at the person's :meth:`distance`, or None."""
+        reach = self.distance(box)
+        if reach is None:
+            return None
+        return (box.box[2] - box.box[0]) / self.bb.frame.shape[1] * 2 * reach * self.tan_half_hfov
 
     def locate(self, box: Detection) -> tuple[float, float] | None:
         """Floor position of the person in ``box``: :meth:`distance` along the box centre's

@@ -20,7 +20,7 @@ from py_trees.common import Status
 
 from app.sim.hearing import HeardLine
 from behaviours.context import Context
-from behaviours.listening import FaceSpeaker, head_error, pending
+from behaviours.listening import FaceSpeaker, head_error, pending, reply_to
 from behaviours.skill import ContextBehaviour, Relieve
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
@@ -94,13 +94,8 @@ class Converse(ContextBehaviour):
         if not lines or not self._ready(lines[0]):
             return Status.RUNNING
         said, self.bb.heard = lines[0], lines[1:]
-        mood = "positive" if self.bb.mood["positive"] else "negative"
-        reply = self.ctx.dialogue.respond(said.text, mood)
-        self._busy_until = self.now + self.ctx.speaker.say(
-            reply.text, behaviour=self.name, to=said.person, line=said.line,
-            in_reply_to=said.text, route=reply.route, found=reply.found, mood=mood)
-        if reply.tablet:
-            self.emit("tablet", page=reply.tablet, line=said.line)
+        reply, seconds = reply_to(self, said, self.bb.mood["positive"])
+        self._busy_until = self.now + seconds
         if reply.action is not None and reply.action.name == "sing_dance":
             self.bb.request = reply.action
         return Status.RUNNING

@@ -4,9 +4,10 @@ map (docs/find_people.md).
 
 The person's floor position is estimated from their box (:meth:`BoxSteering.locate`). The
 robot plans on the static occupancy grid of walls and furniture (the map knows no people) to
-a free spot ``detour_distance_m`` from that estimate with a line of sight to it, the one
-cheapest to reach (path length, plus the way around the person from the side the robot saw
-them from), follows the path and turns to the estimate; there the visual approach takes over
+a free spot ``detour_distance_m`` from that estimate with a line of sight to it (or
+``greet_max_m`` away where a table leaves no nearer room), the one cheapest to reach (path
+length, plus the way around the person from the side the robot saw them from, plus the extra
+distance), follows the path and turns to the estimate; there the visual approach takes over
 again.
 """
 
@@ -14,15 +15,16 @@ from __future__ import annotations
 
 import math
 
-from app.sim.navigation import Navigator, Point, Velocity
+from app.sim.navigation import Navigator, OccupancyGrid, Point, Velocity
 from app.sim.robot import wrap_angle
 from app.sim.world import Footprint, Pose2D
 from behaviours.context import Context
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
 LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate
-SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to furniture (not the robot's
-                                       # radius: the camera looks over a table's corner)
+SIGHT_CLEARANCE_M = 0.05               # ... and pass this close to walls and tall furniture
+SIGHT_HEIGHT_M = 1.0                   # the camera (and a seated face) sees over furniture
+                                       # lower than this: tables, chairs, sofas
 PERSON_HALF_M = 0.4                    # the path keeps the robot's radius off this square
                                        # around the person's estimate (a seated person's knees)
 SNAP_M = 0.3                           # a path starting further than this from the robot
@@ -36,9 +38,13 @@ class Detour:
         self.cfg = ctx.config.find_people
         charge = ctx.config.charge
         self.planner = Navigator(ctx.world, charge.grid_resolution, charge.robot_radius).planner
-        self.sight = Navigator(ctx.world, charge.grid_resolution, SIGHT_CLEARANCE_M).planner.grid
+        world = ctx.world
+        tall = [f for f in world.obstacles() if f.kind == "wall" or (
+            f.kind == "furniture" and world.furniture_top(f.name) > SIGHT_HEIGHT_M)]
+        self.sight = OccupancyGrid.build(world.room_bounds().values(), tall,
+                                         charge.grid_resolution, SIGHT_CLEARANCE_M)
         self.follower = ctx.path_follower()
-        self.target: Point | None = None    # the person's estimated position
+        self.target: Point | None = None    # the person's estimated position (None: a search goal)
         self.active = False
         self._turning = False
 
@@ -52,18 +58,31 @@ class Detour:
         stop = (robot[0] + f * (person[0] - robot[0]), robot[1] + f * (person[1] - robot[1]))
         return not self.planner.grid.clear_ahead(robot, stop)
 
-    def spots(self, person: Point) -> list[Point]:
-        """Free spots ``detour_distance_m`` around ``person`` that have a line of sight to
-        them on the map."""
-        grid, r, n = self.planner.grid, self.cfg.detour_distance_m, self.cfg.detour_candidates
+    def spots(self, person: Point) -> list[tuple[Point, float]]:
+        """Free spots around ``person`` that have a line of sight to them on the map, with
+        their distance: ``detour_distance_m`` away, and ``greet_max_m`` away on the sides
+        where nothing nearer is free (across a table)."""
+        grid, n = self.planner.grid, self.cfg.detour_candidates
         out = []
         for k in range(n):
             c, s = math.cos(math.tau * k / n), math.sin(math.tau * k / n)
-            spot = (person[0] + r * c, person[1] + r * s)
             near = (person[0] + LOOK_SHORT_M * c, person[1] + LOOK_SHORT_M * s)
-            if grid.is_free(*spot) and self.sight.visible(spot, near):
-                out.append(spot)
+            for r in (self.cfg.detour_distance_m, self.cfg.greet_max_m):
+                spot = (person[0] + r * c, person[1] + r * s)
+                if grid.is_free(*spot) and self.sight.visible(spot, near):
+                    out.append((spot, r))
+                    break
         return out
+
+    def can_stand_near(self, robot: Point, person: Point) -> bool:
+        """Whether the map has room for the robot ``detour_distance_m`` from ``person`` on
+        the line towards it (not, when a table stands between them)."""
+        d = math.dist(robot, person)
+        if d <= self.cfg.detour_distance_m:
+            return True
+        f = self.cfg.detour_distance_m / d
+        return self.planner.grid.is_free(person[0] + f * (robot[0] - person[0]),
+                                         person[1] + f * (robot[1] - person[1]))
 
     def start(self, robot: Point, person: Point, front: float | None = None
               ) -> list[Point] | None:
@@ -74,10 +93,10 @@ class Detour:
         that way."""
         spots = self.spots(person)
         side = math.atan2(robot[1] - person[1], robot[0] - person[0]) if front is None else front
-        arcs = [self.cfg.detour_distance_m * abs(wrap_angle(
-            math.atan2(y - person[1], x - person[0]) - side)) for x, y in spots]
-        goal = self.planner.nearest_goal(robot, spots,
-                                         [self.cfg.detour_arc_weight * a for a in arcs])
+        costs = [self.cfg.detour_arc_weight * self.cfg.detour_distance_m * abs(wrap_angle(
+            math.atan2(y - person[1], x - person[0]) - side)) + (r - self.cfg.detour_distance_m)
+            for (x, y), r in spots]
+        goal = self.planner.nearest_goal(robot, [spot for spot, _ in spots], costs)
         path = None if goal is None else self._plan(robot, goal, person)
         if path is not None:
             self.follower.start(path)
@@ -95,6 +114,15 @@ class Detour:
             path = self.planner.plan(robot, goal)
         return path
 
+    def go(self, robot: Point, goal: Point) -> list[Point] | None:
+        """Plan a way to ``goal`` on the map (to search somewhere else); the path, or None.
+        It ends there, without turning to a person."""
+        path = self.planner.plan(robot, goal)
+        if path is not None:
+            self.follower.start(path)
+            self.target, self.active, self._turning = None, True, False
+        return path
+
     def cancel(self) -> None:
         """Stop following the detour."""
         self.active = False
@@ -108,6 +136,9 @@ class Detour:
                 return self.follower.command(pose)
             self._turning = True
             self.follower.reset()
+        if self.target is None:
+            self.active = False
+            return None
         heading = math.atan2(self.target[1] - y, self.target[0] - x)
         if abs(wrap_angle(heading - yaw)) <= FACING_TOLERANCE:
             self.active = False

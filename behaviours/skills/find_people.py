@@ -22,14 +22,17 @@ import math
 from typing import Any
 
 import py_trees
-from py_trees.common import ParallelPolicy, Status
+from py_trees.common import Access, ParallelPolicy, Status
 from simple_pid import PID
 
 from behaviours.context import Context
 from behaviours.skill import Relieve, Say
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
 from behaviours.skills.detour import Detour
+from behaviours.skills.search import Search, remember
 from perception.detector.yolo import Detection
+
+CUT_PX = 2   # a person box reaching this close to the frame's bottom is cut off there
 
 
 class ApproachPerson(BoxSteering):
@@ -41,12 +44,18 @@ class ApproachPerson(BoxSteering):
     face count is short ``face_wait_s`` after the robot came near, it circles the person
     to see their front; a person whose face still has not shown (their back is turned, or
     it is no person), or a near box without a face that keeps vanishing, is ignored for
-    ``ignore_s``: boxes towards where they stand. FAILURE after ``timeout_s``."""
+    ``ignore_s``: boxes towards where they stand. Having looked all the way round without
+    finding anyone, it walks on to search elsewhere (:class:`~behaviours.skills.search.
+    Search`), watching for people on the way. FAILURE after ``timeout_s``."""
 
     def __init__(self, ctx: Context, name: str = "Approach a person") -> None:
         super().__init__(name, ctx, ctx.config.perception.tracking_rate)
+        for key in ("people_seen", "rooms_searched"):
+            self.bb.register_key(key, access=Access.WRITE)
         self.approach: PID | None = None          # set in setup(), with the detour planner
         self.detour: Detour | None = None
+        self.search: Search | None = None
+        self._walking: str | None = None         # why the robot walks on to search, if it does
         self._start = self._seen = 0.0           # s: started, person last seen
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
@@ -63,6 +72,7 @@ class ApproachPerson(BoxSteering):
         super().setup(**kwargs)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
         self.detour = Detour(self.ctx)   # two occupancy grids of the floor map
+        self.search = Search(self.ctx, self.detour)
 
     def initialise(self) -> None:
         super().initialise()
@@ -74,6 +84,7 @@ class ApproachPerson(BoxSteering):
         self._turn, self._reversed = 1.0, -math.inf
         self._ignored, self._vanished, self._spot = {}, {}, None
         self.detour.cancel()
+        self.search.turned, self._walking = 0.0, None
         self._detours = 0
         self._forget_front()
 
@@ -89,24 +100,38 @@ class ApproachPerson(BoxSteering):
             return Status.RUNNING
         detections, dt = fresh
         self._ignored = {s: t for s, t in self._ignored.items() if t > self.now}
-        if self.detour.active:
+        if self.detour.active and self._walking is None:
             return self._drive_detour()
         x, y, _ = self.ctx.robot.pose()
         person = self.follow(detections, tuple(math.atan2(sy - y, sx - x)
                                                for sx, sy in self._ignored))
         if person is None or self.hits < self.cfg.confirm_frames:
-            self._search()
+            if self.detour.active:
+                return self._drive_detour()
+            self._search(dt)
             return Status.RUNNING
+        spot = self.locate(person)
+        if spot is not None and self._implausible(person, spot):
+            self._ignored[spot] = self.now + self.cfg.ignore_s
+            self.forget()
+            return self._drive_detour() if self.detour.active else Status.RUNNING
+        if self._walking is not None:   # someone in view on the way: approach them
+            self.detour.cancel()
+            self._walking = None
         self._seen = self.now
-        self._spot = self.locate(person) or self._spot
+        self._spot = spot or self._spot
+        if self._spot is not None:
+            self.bb.people_seen = remember(self.bb.people_seen, self._spot, self.now,
+                                           self.cfg.sightings_kept)
         return self._steer(person, detections, dt)
 
-    def _search(self) -> None:
+    def _search(self, dt: float) -> None:
         """No confirmed person in view: hold still while the one followed may just have
         been missed, else turn counter-clockwise. Always the same way: turning towards where
         a box was last seen lets two passing false positives bounce the robot between
         them. Only a turn the base refuses (an arm against a table) is reversed, and one
-        refused both ways within a full turn (wedged) starts the escape of :meth:`_avoid`."""
+        refused both ways within a full turn (wedged) starts the escape of :meth:`_avoid`.
+        Once the turns add up to a look all the way round, walk on (:meth:`_walk_on`)."""
         if self.now - self._seen < self.cfg.lost_after_s:
             self.command(0.0, 0.0, 0.0)
             return
@@ -126,7 +151,39 @@ class ApproachPerson(BoxSteering):
             if self.now - self._reversed < math.tau / self.cfg.search_turn_speed:
                 self._escape_start = self.now
             self._turn, self._reversed = -self._turn, self.now
+        if self.search.turn(wz, dt) and self._walk_on():
+            return
         self.command(*self._avoid(0.0, self._turn * self.cfg.search_turn_speed))
+
+    def _implausible(self, person: Detection, spot: tuple[float, float]) -> bool:
+        """Whether the confirmed box cannot be a person: located inside a wall of the map,
+        or wider than ``max_person_width_m`` at its distance (the detector's false positives
+        on a wall seen at a grazing angle). Logged as ``not_a_person``."""
+        width = self.width_m(person)
+        wall = self.search.on_wall(spot)
+        if not wall and (width is None or width <= self.cfg.max_person_width_m):
+            return False
+        self.emit("not_a_person", spot=[round(v, 2) for v in spot], on_wall=wall,
+                  width_m=None if width is None else round(width, 2))
+        return True
+
+    def _walk_on(self) -> bool:
+        """Nobody to greet all the way round: note this room as searched in vain and walk
+        to where to search next; whether the robot walks."""
+        x, y, _ = self.ctx.robot.pose()
+        room = self.search.room_of((x, y))
+        if room is not None:
+            self.bb.rooms_searched = {**self.bb.rooms_searched, room: self.now}
+        choice = self.search.go_on((x, y), self.now, self.bb.people_seen,
+                                   self.bb.rooms_searched, list(self._ignored))
+        if choice is None:
+            return False
+        self._walking, goal = choice
+        self.bb.people_seen = [s for s in self.bb.people_seen
+                               if math.dist(s[:2], goal) >= 0.5]   # looked for there now
+        self.emit("search_on", why=self._walking, searched=room,
+                  goal=[round(v, 2) for v in goal])
+        return True
 
     def _steer(self, person: Detection, detections: list[Detection], dt: float) -> Status:
         cfg = self.cfg
@@ -135,7 +192,8 @@ class ApproachPerson(BoxSteering):
         shortfall = 0.0 if dist is None else cfg.target_distance_m - dist   # > 0: too close
         wz = self.heading(offset, dt=dt)
         vx = self.approach(shortfall, dt=dt) * max(0.0, 1.0 - abs(offset) / cfg.approach_max_offset)
-        self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf)
+        self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf,
+                                self.bb.frame.shape[0] - CUT_PX, cfg.cut_face_region)
         # Close: at most about the target distance away. Near: about at it. Closer (the
         # person stepped up to the robot, their head may be cut off by the frame), the
         # approach loop backs off; the face wait, circling and giving up start once the
@@ -143,6 +201,9 @@ class ApproachPerson(BoxSteering):
         # off is blocked).
         close = shortfall >= -cfg.distance_tolerance_m and dist is not None
         near = close and shortfall <= cfg.distance_tolerance_m
+        if not close and self._across(dist):   # a table between: greet from here
+            close = near = True
+            vx = min(vx, 0.0)
         if close and not math.isfinite(self._close_since):
             self._close_since = self.now
         if near and not math.isfinite(self._near_since):
@@ -174,6 +235,14 @@ class ApproachPerson(BoxSteering):
         else:
             self.command(*self._avoid(vx, wz))
         return Status.RUNNING
+
+    def _across(self, dist: float | None) -> bool:
+        """Whether the followed person is within ``greet_max_m`` and the map leaves the
+        robot no room nearer them on this side (a table between them)."""
+        if dist is None or dist > self.cfg.greet_max_m or self._spot is None:
+            return False
+        x, y, _ = self.ctx.robot.pose()
+        return not self.detour.can_stand_near((x, y), self._spot)
 
     def _facing(self, person: Detection, dist: float | None) -> tuple[float, float] | None:
         """The world direction the followed person looks in and how far (rad) that is from
@@ -235,10 +304,12 @@ class ApproachPerson(BoxSteering):
             self.command(*command)
             return Status.RUNNING
         self.detour.cancel()
-        x, y, _ = robot.pose()
-        tx, ty = self.detour.target
-        self.look_towards(math.atan2(ty - y, tx - x))
-        self._seen = self.now
+        if self.detour.target is not None:
+            x, y, _ = robot.pose()
+            tx, ty = self.detour.target
+            self.look_towards(math.atan2(ty - y, tx - x))
+            self._seen = self.now
+        self._walking = None
         self.command(0.0, 0.0, 0.0)
         return Status.RUNNING
 

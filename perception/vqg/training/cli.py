@@ -27,6 +27,9 @@ def add_data(sub: argparse._SubParsersAction) -> None:
         p.add_argument(f"--{split}", type=integer(0),
                        help=f"{split} images (default from the config)")
     p.add_argument("--seed", type=int, help="base seed (default from the config)")
+    p.add_argument("--no-household", action="store_true",
+                   help="only the rendered scenes, none of the frames of the shipped worlds "
+                   "(household.splits)")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg_data.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_data)
@@ -117,8 +120,10 @@ def run_data(args: argparse.Namespace) -> int:
         value = getattr(args, name)
         if value is not None:
             splits[name] = value
-    write_vqg_dataset(args.out, cfg, splits, progress=not args.no_progress)
-    print(f"VQG data set in {args.out} ({', '.join(f'{k} {v}' for k, v in splits.items())})")
+    household = {} if args.no_household else dict(cfg.household.splits)
+    write_vqg_dataset(args.out, cfg, splits, progress=not args.no_progress, household=household)
+    print(f"VQG data set in {args.out} ({', '.join(f'{k} {v}' for k, v in splits.items())}; "
+          f"household frames {', '.join(f'{k} {v}' for k, v in household.items()) or 'none'})")
     return 0
 
 

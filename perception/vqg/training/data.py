@@ -15,15 +15,14 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-import cv2
 import numpy as np
 from tqdm import tqdm
 
 from app.core.checkpoint import atomic_write_bytes
-from perception.detector.training.data import encode_png
 from perception.vqg.scene import SceneGraph, load_scene
 from perception.vqg.training.data_config import SPLITS, VqgDataConfig, load_vqg_data_config
-from perception.vqg.training.facts import generate_questions
+from perception.vqg.training.frames_io import collect, frame_done, questions_for, write_frame
+from perception.vqg.training.household_data import write_household_frames
 from perception.vqg.training.layout import sample_plan
 from perception.vqg.training.render import VqgRenderer
 
@@ -47,21 +46,18 @@ def render_scene(seed: int | np.random.SeedSequence, cfg: VqgDataConfig | None =
             r.close()
 
 
-def questions_for(graph: SceneGraph, seed: np.random.SeedSequence, cfg: VqgDataConfig) -> list[str]:
-    """The data set's questions about ``graph`` (seeded by the frame's seed)."""
-    q = cfg.questions
-    rng = np.random.default_rng(seed.spawn(1)[0])
-    return generate_questions(graph, rng, q.max_frames, q.paraphrases, q.max_questions,
-                              q.fixed_wording)
-
-
 def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
-                      progress: bool | Callable[[int], None] = True) -> dict[str, int]:
-    """Render ``splits`` (split name -> frames) into ``out``; return the frames rendered now.
+                      progress: bool | Callable[[int], None] = True,
+                      household: dict[str, int] | None = None) -> dict[str, int]:
+    """Render ``splits`` (split name -> frames) into ``out``, then the ``household`` frames
+    of the shipped worlds (split name -> frames; none by default); return the frames
+    rendered now, per split.
 
     ``progress`` is True for a tqdm bar, False for none, or a callback given 1 per frame."""
     out = Path(out)
-    bar = tqdm(total=sum(splits.values()), unit="frame", disable=progress is not True)
+    household = household or {}
+    bar = tqdm(total=sum(splits.values()) + sum(household.values()), unit="frame",
+               disable=progress is not True)
     tick = progress if callable(progress) else bar.update
     renderer = make_renderer(cfg)
     done = dict.fromkeys(splits, 0)
@@ -69,49 +65,41 @@ def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
     try:
         for split, n in splits.items():
             k = SPLITS.index(split)
-            for sub in ("images", "scenes", "questions"):
-                (out / sub / split).mkdir(parents=True, exist_ok=True)
             for i in range(n):
                 name = f"{i:06d}"
-                png = out / "images" / split / f"{name}.png"
-                scene = out / "scenes" / split / f"{name}.json"
-                qfile = out / "questions" / split / f"{name}.json"
-                if not (png.exists() and scene.exists() and qfile.exists()):
+                if not frame_done(out, split, name):
                     seed = np.random.SeedSequence([cfg.seed, k, i])
                     rgb, graph = render_scene(seed, cfg, renderer)
-                    record = {"id": name, "questions": questions_for(graph, seed, cfg)}
-                    atomic_write_bytes(png, encode_png(cv2.cvtColor(rgb, cv2.COLOR_RGB2BGR)))
-                    atomic_write_bytes(scene, graph.to_json().encode())
-                    atomic_write_bytes(qfile, json.dumps(record).encode())
+                    write_frame(out, split, name, rgb, graph, questions_for(graph, seed, cfg))
                     done[split] += 1
                 tick(1)
-            _collect(out, split, n)
+        homes = write_household_frames(out, cfg, household, tick)
     finally:
         renderer.close()
         bar.close()
     seconds = time.perf_counter() - start
-    _examples(out, cfg.examples if "train" in splits else 0)
+    for split in {**splits, **household}:
+        collect(out, split)
+        done[split] = done.get(split, 0) + homes.get(split, 0)
+    _examples(out, cfg.examples if "train" in splits else 0, household.get("train", 0))
     meta = {"recipe": cfg.model_dump(mode="json"), "seed": cfg.seed, "counts": splits,
-            "rendered_now": done, "seconds_now": round(seconds, 1),
+            "household_counts": household, "rendered_now": done,
+            "seconds_now": round(seconds, 1),
             "frames_per_s": round(sum(done.values()) / seconds, 3) if sum(done.values()) else None}
     atomic_write_bytes(out / "meta.json", json.dumps(meta, indent=1).encode())
     return done
 
 
-def _collect(out: Path, split: str, n: int) -> None:
-    """``questions/{split}.jsonl`` from the per-frame question files."""
-    folder = out / "questions" / split
-    lines = [(folder / f"{i:06d}.json").read_text(encoding="utf-8") + "\n" for i in range(n)]
-    atomic_write_bytes(out / "questions" / f"{split}.jsonl", "".join(lines).encode())
-
-
-def _examples(out: Path, count: int) -> None:
-    """The first ``count`` train frames copied to ``examples/`` with their questions listed."""
+def _examples(out: Path, count: int, household: int) -> None:
+    """The first ``count`` train frames of each source (rendered scenes, household frames
+    when there are ``household`` of them) copied to ``examples/`` with their questions."""
     folder = out / "examples"
     folder.mkdir(exist_ok=True)
     text = []
-    for i in range(min(count, len(list((out / "images" / "train").glob("*.png"))))):
-        name = f"{i:06d}"
+    names = [f"{i:06d}" for i in range(count)] + [f"h{i:06d}" for i in range(min(count, household))]
+    for name in names:
+        if not frame_done(out, "train", name):
+            continue
         image = (out / "images" / "train" / f"{name}.png").read_bytes()
         atomic_write_bytes(folder / f"train_{name}.png", image)
         record = json.loads((out / "questions" / "train" / f"{name}.json").read_text())

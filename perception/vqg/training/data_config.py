@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import Field, NonNegativeInt, PositiveInt
+from pydantic import Field, NonNegativeInt, PositiveInt, field_validator
 
 from app.core.config_files import StrictModel, load_model
+from app.core.paths import REPO_ROOT
 
 Span = tuple[float, float]
 Count = tuple[NonNegativeInt, NonNegativeInt]
@@ -63,6 +64,39 @@ class QuestionConfig(StrictModel):
     fixed_wording: bool
 
 
+class HouseholdConfig(StrictModel):
+    """Frames of the shipped worlds taken by the robot's own head camera: the scenario runs
+    on (people walk, sit, enter) and the robot is put down at random free places, now and
+    then framing a person close up the way it does when it talks to them."""
+
+    worlds: tuple[Path, ...] = Field(min_length=1)   # scenario files (relative: repository)
+    splits: dict[str, NonNegativeInt]
+    frames_per_run: PositiveInt       # frames from one run of a world before the next run
+    frames_per_moment: PositiveInt    # robot poses rendered at one moment of the scenario
+    advance_s: Span                   # scenario seconds between two moments
+    person_share: float = Field(ge=0.0, le=1.0)
+    person_distance: Span             # m from a framed person
+    person_angle_deg: float = Field(gt=0.0, le=180.0)   # off the way they look, at most
+    head_pitch: Span                  # rad (positive looks down), room frames
+    face_pitch_jitter: float = Field(ge=0.0)            # rad around looking at the face
+    head_yaw: Span                    # rad
+    aim_jitter_deg: float = Field(ge=0.0)               # base heading off the person
+    clearance_m: float = Field(gt=0.0)                  # robot centre to any footprint
+    attempts: PositiveInt             # tries to find a free pose before giving up on one
+
+    @field_validator("splits")
+    @classmethod
+    def _known_splits(cls, v: dict[str, int]) -> dict[str, int]:
+        unknown = sorted(set(v) - set(SPLITS))
+        if unknown:
+            raise ValueError(f"unknown splits {unknown}; known: {list(SPLITS)}")
+        return v
+
+    def world_paths(self) -> list[Path]:
+        """The scenario files, relative ones taken from the repository root."""
+        return [w if w.is_absolute() else REPO_ROOT / w for w in self.worlds]
+
+
 class VqgDataConfig(StrictModel):
     """Schema of ``app/defaults/vqg_data.yaml``."""
 
@@ -72,6 +106,7 @@ class VqgDataConfig(StrictModel):
     scene: SceneConfig
     visibility: VisibilityConfig
     questions: QuestionConfig
+    household: HouseholdConfig
 
 
 def load_vqg_data_config(path: str | Path | None = None) -> VqgDataConfig:

@@ -60,12 +60,17 @@ class Item:
 
 
 def load_items(cfg: VqgConfig, split: str, n: int) -> list[Item]:
-    """The first ``n`` images of a split with their scene graphs and questions."""
+    """The first ``n`` images of a split with their scene graphs and questions; half of
+    them household frames (``h`` ids) when the split holds both kinds."""
     d = cfg.data
     root = d.resolved_dir()
     ids, questions = read_questions(root, split)
+    homes = [k for k, i in enumerate(ids) if i.startswith("h")]
+    scenes = [k for k, i in enumerate(ids) if not i.startswith("h")]
+    half = n // 2 if homes and scenes else n
+    chosen = scenes[:half] + homes[:n - min(half, len(scenes))] if homes else scenes[:n]
     items = []
-    for i, qs in zip(ids[:n], questions[:n], strict=False):
+    for i, qs in ((ids[k], questions[k]) for k in chosen):
         path = root / "images" / split / f"{i}.png"
         scene_path = root / "scenes" / split / f"{i}.json"
         try:
