@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from app.sim.navigation import Navigator, OccupancyGrid, Point, Velocity
 from app.sim.robot import wrap_angle
 from app.sim.world import Footprint, Pose2D
@@ -27,6 +29,8 @@ SIGHT_HEIGHT_M = 1.0                   # the camera (and a seated face) sees ove
                                        # lower than this: tables, chairs, sofas
 PERSON_HALF_M = 0.4                    # the path keeps the robot's radius off this square
                                        # around the person's estimate (a seated person's knees)
+NEAR_ARC_DEG = 30                      # a free spot 1 m from the person this close to the
+                                       # robot's side of them: the robot can go and stand there
 SNAP_M = 0.3                           # a path starting further than this from the robot
                                        # does not connect to where it stands
 
@@ -76,13 +80,15 @@ class Detour:
 
     def can_stand_near(self, robot: Point, person: Point) -> bool:
         """Whether the map has room for the robot ``detour_distance_m`` from ``person`` on
-        the line towards it (not, when a table stands between them)."""
-        d = math.dist(robot, person)
-        if d <= self.cfg.detour_distance_m:
+        its side of them: within ``NEAR_ARC_DEG`` of the line towards it (not, when a table
+        stands between them)."""
+        r = self.cfg.detour_distance_m
+        if math.dist(robot, person) <= r:
             return True
-        f = self.cfg.detour_distance_m / d
-        return self.planner.grid.is_free(person[0] + f * (robot[0] - person[0]),
-                                         person[1] + f * (robot[1] - person[1]))
+        side = math.atan2(robot[1] - person[1], robot[0] - person[0])
+        return any(self.planner.grid.is_free(person[0] + r * math.cos(side + a),
+                                             person[1] + r * math.sin(side + a))
+                   for a in np.radians(np.arange(-NEAR_ARC_DEG, NEAR_ARC_DEG + 1, 10)))
 
     def start(self, robot: Point, person: Point, front: float | None = None
               ) -> list[Point] | None:
