@@ -111,7 +111,7 @@ class ApproachPerson(BoxSteering):
             self._search(dt)
             return Status.RUNNING
         spot = self.locate(person)
-        if spot is not None and self._implausible(person, spot):
+        if spot is not None and self._implausible(person, detections, spot):
             self._ignored[spot] = self.now + self.cfg.ignore_s
             self.forget()
             return self._drive_detour() if self.detour.active else Status.RUNNING
@@ -119,6 +119,7 @@ class ApproachPerson(BoxSteering):
             self.detour.cancel()
             self._walking = None
         self._seen = self.now
+        self.search.turned = 0.0   # a look round counts from the last person seen
         self._spot = spot or self._spot
         if self._spot is not None:
             self.bb.people_seen = remember(self.bb.people_seen, self._spot, self.now,
@@ -155,12 +156,17 @@ class ApproachPerson(BoxSteering):
             return
         self.command(*self._avoid(0.0, self._turn * self.cfg.search_turn_speed))
 
-    def _implausible(self, person: Detection, spot: tuple[float, float]) -> bool:
-        """Whether the confirmed box cannot be a person: located inside a wall of the map,
-        or wider than ``max_person_width_m`` at its distance (the detector's false positives
-        on a wall seen at a grazing angle). Logged as ``not_a_person``."""
+    def _implausible(self, person: Detection, detections: list[Detection],
+                     spot: tuple[float, float]) -> bool:
+        """Whether the confirmed box cannot be a person: wider than ``max_person_width_m``
+        at its distance (the detector's false positives on a wall seen at a grazing angle),
+        or located in a wall of the map without a face in it (a corner of the room; a
+        person seated against a wall, whose torso depth reaches the wall, shows their face
+        when the robot can greet them at all). Logged as ``not_a_person``."""
         width = self.width_m(person)
-        wall = self.search.on_wall(spot)
+        wall = self.search.on_wall(spot) and not has_face(
+            person, detections, self.cfg.face_region, self.cfg.face_min_conf,
+            self.bb.frame.shape[0] - CUT_PX, self.cfg.cut_face_region)
         if not wall and (width is None or width <= self.cfg.max_person_width_m):
             return False
         self.emit("not_a_person", spot=[round(v, 2) for v in spot], on_wall=wall,
