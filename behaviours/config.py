@@ -70,6 +70,9 @@ class FindPeopleConfig(StrictModel):
 
     greet: str
     head_pitch: float = Field(ge=-0.7, le=0.6)
+    seated_head_pitch: float = Field(ge=-0.7, le=0.6)
+    seated_distance_m: PositiveFloat
+    seated_box_top: float = Field(ge=0, le=1)
     heading_pid: PidGains
     approach_pid: PidGains
     max_approach_speed: PositiveFloat

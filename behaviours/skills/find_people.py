@@ -198,6 +198,7 @@ class ApproachPerson(BoxSteering):
         shortfall = 0.0 if dist is None else cfg.target_distance_m - dist   # > 0: too close
         wz = self.heading(offset, dt=dt)
         vx = self.approach(shortfall, dt=dt) * max(0.0, 1.0 - abs(offset) / cfg.approach_max_offset)
+        self._pitch_to(person, dist)
         self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf,
                                 self.bb.frame.shape[0] - CUT_PX, cfg.cut_face_region)
         # Close: at most about the target distance away. Near: about at it. Closer (the
@@ -241,6 +242,22 @@ class ApproachPerson(BoxSteering):
         else:
             self.command(*self._avoid(vx, wz))
         return Status.RUNNING
+
+    def _pitch_to(self, person: Detection, dist: float | None) -> None:
+        """Look level at a seated person close by: within ``seated_distance_m``, their box
+        cut off by the frame's bottom with its top below ``seated_box_top`` of the frame
+        (the head pitched up for standing people puts a seated face at the bottom edge).
+        The head goes back to ``head_pitch`` once a box's top reaches the frame's top."""
+        height = self.bb.frame.shape[0]
+        pitch = None
+        if person.box[1] <= CUT_PX:
+            pitch = self.cfg.head_pitch
+        elif (dist is not None and dist <= self.cfg.seated_distance_m
+              and person.box[3] >= height - CUT_PX
+              and person.box[1] >= self.cfg.seated_box_top * height):
+            pitch = self.cfg.seated_head_pitch
+        if pitch is not None:
+            self.ctx.robot.move_joints({"HeadPitch": pitch}, 1.0)
 
     def _across(self, dist: float | None) -> bool:
         """Whether the followed person is within ``greet_max_m`` and the map leaves the
