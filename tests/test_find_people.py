@@ -17,30 +17,15 @@ from behaviours.sense import Sense
 from behaviours.skill import people_in_view
 from behaviours.skills import find_people
 from behaviours.skills.box_steering import has_face
-from perception.detector.yolo import Detection, YoloDetector
+from perception.detector.yolo import Detection
 from perception.facing.config import DEFAULT_FACING_MODEL
 from perception.facing.model import FacingEstimator
+from tests.conftest import WEIGHTS
 
 ROOT = Path(__file__).resolve().parents[1]
-WEIGHTS = [w for w in (ROOT / "assets" / "models" / "detector.onnx",
-                       ROOT / "assets" / "models" / "detector.pt",
-                       ROOT / "runs" / "train-detector" / "weights" / "best.pt") if w.is_file()]
 pytestmark = pytest.mark.skipif(
     not WEIGHTS, reason="no detector weights: neither assets/models/detector.onnx|.pt nor "
                         "runs/train-detector/weights/best.pt exists (companion train detector)")
-
-
-@pytest.fixture(scope="module")
-def detector():
-    return YoloDetector(WEIGHTS[0])
-
-
-@pytest.fixture
-def short_relief(tmp_path):
-    """A personality whose find_people lasts 2 steps, so a success ends soon after the greeting."""
-    path = tmp_path / "personality.yaml"
-    path.write_text("actions:\n  find_people: {duration: 2}\n")
-    return path
 
 
 def living_room(robot: Placement, person: Start | None, personality: Path | None = None):

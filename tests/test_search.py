@@ -16,7 +16,8 @@ from app.sim.simulation import Simulation
 from behaviours.context import make_context
 from behaviours.skills.detour import Detour
 from behaviours.skills.search import Search, remember
-from tests.test_find_people import WEIGHTS, find
+from tests.conftest import WEIGHTS
+from tests.test_find_people import find
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -87,19 +88,6 @@ def test_a_box_inside_a_wall_is_no_person(search):
 
 
 pytestmark = pytest.mark.skipif(not WEIGHTS, reason="no detector weights")
-
-
-@pytest.fixture(scope="module")
-def detector():
-    from perception.detector.yolo import YoloDetector
-    return YoloDetector(WEIGHTS[0])
-
-
-@pytest.fixture
-def short_relief(tmp_path):
-    path = tmp_path / "personality.yaml"
-    path.write_text("actions:\n  find_people: {duration: 2}\n")
-    return path
 
 
 def test_a_person_in_another_room_is_found_through_the_door(detector, short_relief):

@@ -156,6 +156,13 @@ class ApproachPerson(BoxSteering):
             return
         self.command(*self._avoid(0.0, self._turn * self.cfg.search_turn_speed))
 
+    def _shows_face(self, person: Detection, detections: list[Detection]) -> bool:
+        """Whether this frame shows the face of ``person`` (:func:`has_face` with the face
+        regions of a whole box and of one cut off by the frame's bottom)."""
+        cfg = self.cfg
+        return has_face(person, detections, cfg.face_region, cfg.face_min_conf,
+                        self.bb.frame.shape[0] - CUT_PX, cfg.cut_face_region)
+
     def _implausible(self, person: Detection, detections: list[Detection],
                      spot: tuple[float, float]) -> bool:
         """Whether the confirmed box cannot be a person: wider than ``max_person_width_m``
@@ -164,9 +171,7 @@ class ApproachPerson(BoxSteering):
         person seated against a wall, whose torso depth reaches the wall, shows their face
         when the robot can greet them at all). Logged as ``not_a_person``."""
         width = self.width_m(person)
-        wall = self.search.on_wall(spot) and not has_face(
-            person, detections, self.cfg.face_region, self.cfg.face_min_conf,
-            self.bb.frame.shape[0] - CUT_PX, self.cfg.cut_face_region)
+        wall = self.search.on_wall(spot) and not self._shows_face(person, detections)
         if not wall and (width is None or width <= self.cfg.max_person_width_m):
             return False
         self.emit("not_a_person", spot=[round(v, 2) for v in spot], on_wall=wall,
@@ -199,8 +204,7 @@ class ApproachPerson(BoxSteering):
         wz = self.heading(offset, dt=dt)
         vx = self.approach(shortfall, dt=dt) * max(0.0, 1.0 - abs(offset) / cfg.approach_max_offset)
         self._pitch_to(person, dist)
-        self._faces += has_face(person, detections, cfg.face_region, cfg.face_min_conf,
-                                self.bb.frame.shape[0] - CUT_PX, cfg.cut_face_region)
+        self._faces += self._shows_face(person, detections)
         # Close: at most about the target distance away. Near: about at it. Closer (the
         # person stepped up to the robot, their head may be cut off by the frame), the
         # approach loop backs off; the face wait, circling and giving up start once the
