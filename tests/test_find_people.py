@@ -5,6 +5,7 @@ from pathlib import Path
 
 import py_trees
 import pytest
+from conftest import WEIGHTS
 from py_trees.common import Status
 
 from app.sim.scenario import Placement, Start, load_scenario
@@ -20,7 +21,6 @@ from behaviours.skills.box_steering import has_face
 from perception.detector.yolo import Detection
 from perception.facing.config import DEFAULT_FACING_MODEL
 from perception.facing.model import FacingEstimator
-from tests.conftest import WEIGHTS
 
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(

@@ -9,15 +9,15 @@ import math
 from pathlib import Path
 
 import pytest
+from conftest import WEIGHTS
 from py_trees.common import Status
+from test_find_people import find
 
 from app.sim.scenario import Placement, Start, load_scenario
 from app.sim.simulation import Simulation
 from behaviours.context import make_context
 from behaviours.skills.detour import Detour
 from behaviours.skills.search import Search, remember
-from tests.conftest import WEIGHTS
-from tests.test_find_people import find
 
 ROOT = Path(__file__).resolve().parents[1]
 
