@@ -12,7 +12,8 @@ import os
 import sys
 from pathlib import Path
 
-from app.core.cli_args import integer, real
+from app.core.cli_args import integer, real, seed
+from app.core.limits import MAX_DURATION_S
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -23,9 +24,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                        "timeline.csv, dialogue.jsonl, metrics.json, plots/, frames/ and "
                        "tree.txt into --out.")
     p.add_argument("scenario", type=Path, help="scenario YAML file")
-    p.add_argument("--duration", type=real(above=0),
+    p.add_argument("--duration", type=real(above=0, below=MAX_DURATION_S + 1e-9),
                    help="simulated seconds (default: the scenario's)")
-    p.add_argument("--seed", type=integer(0), help="seed (default: the scenario's)")
+    p.add_argument("--seed", type=seed(), help="seed (default: the scenario's)")
     p.add_argument("--out", type=Path, help="run folder (default: runs/<scenario name>)")
     p.add_argument("--gui", action="store_true", help="open the PyBullet window")
     p.add_argument("--policy", type=Path, help="policy file (default: the shipped DQN)")
@@ -46,12 +47,12 @@ def add_bench(sub: argparse._SubParsersAction) -> None:
                        "nursing home for --long seconds, once per seed (each a `companion "
                        "run` in its own process; complete runs in --out are reused), and "
                        "print the mean and range of each interaction metric.")
-    p.add_argument("--seeds", type=integer(0), nargs="+", default=[0, 1, 2])
+    p.add_argument("--seeds", type=seed(), nargs="+", default=[0, 1, 2])
     p.add_argument("--worlds", nargs="+", default=None,
                    help="worlds/NAME.yaml to run (default: the four shipped worlds)")
-    p.add_argument("--long", type=integer(0), default=3600,
+    p.add_argument("--long", type=integer(0, int(MAX_DURATION_S)), default=3600,
                    help="seconds of the long nursing-home run (0: none; default 3600)")
-    p.add_argument("--jobs", type=integer(1), default=1, help="runs at a time")
+    p.add_argument("--jobs", type=integer(1, 64), default=1, help="runs at a time")
     p.add_argument("--out", type=Path, default=Path("runs/bench-household"))
     p.add_argument("--docs", type=Path, help="write the table into this Markdown file "
                    "(between its bench markers), e.g. docs/BENCHMARKS.md")

@@ -19,6 +19,7 @@ from typing import Annotated, Any, Literal
 from pydantic import AfterValidator, Field, create_model, model_validator
 
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
+from app.core.limits import MAX_DURATION_S, SEED_MAX
 from app.mind.personality import DRIVES, load_personality
 
 Unit = Annotated[float, Field(ge=0, le=1)]
@@ -308,8 +309,8 @@ class Scenario(StrictModel):
 
     name: str
     description: str = ""
-    seed: int = Field(default=0, ge=0)
-    duration: Positive
+    seed: int = Field(default=0, ge=0, le=SEED_MAX)
+    duration: float = Field(gt=0, le=MAX_DURATION_S)
     step: float = Field(default=0.1, gt=0, le=1)
     camera_rate: float = Field(default=1.0, gt=0, le=30)
     time_of_day: str = Field(default="10:00", pattern=r"^([01]\d|2[0-3]):[0-5]\d$")

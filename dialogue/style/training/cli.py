@@ -49,10 +49,12 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--model-dir", type=Path, default=DEFAULT_MODEL_DIR,
                    help="folder with style.pt, classifier.pt and lm.pt")
     p.add_argument("--split", choices=["test", "valid"], default="test")
-    p.add_argument("--limit", type=integer(2), help="evaluate this many sentences (half per style)")
-    p.add_argument("--beam", type=int, help="beam size (default: the model's)")
+    p.add_argument("--limit", type=integer(2, 1_000_000),
+                   help="evaluate this many sentences (half per style)")
+    p.add_argument("--beam", type=integer(1, 64), help="beam size (default: the model's)")
     p.add_argument("--data", type=Path, help="folder with the Yelp sentiment.* files")
-    p.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
+    p.add_argument("--threads", type=integer(1, 256), default=1,
+                   help="torch CPU threads (default 1)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, default=Path("runs/eval-style"),
                    help="folder for metrics.json and examples.md")
@@ -70,7 +72,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--input", type=Path, help="file with one sentence a line ('-': stdin)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL_DIR / STYLE_FILE,
                    help="style.pt to use")
-    p.add_argument("--beam", type=int, help="beam size (default: the model's)")
+    p.add_argument("--beam", type=integer(1, 64), help="beam size (default: the model's)")
     p.add_argument("--raw", action="store_true",
                    help="print the model output even when the confidence check rejects it")
     p.set_defaults(func=run_style)

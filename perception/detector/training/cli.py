@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from app.core.cli_args import integer, real
+from app.core.cli_args import integer, real, seed
 
 
 def add_data(sub: argparse._SubParsersAction) -> None:
@@ -18,10 +18,11 @@ def add_data(sub: argparse._SubParsersAction) -> None:
                        "randomised households: images/, labels/ (YOLO), data.yaml and "
                        "examples/ with boxes drawn, in --out. Resumable.")
     p.add_argument("--out", type=Path, required=True, help="data set folder")
-    p.add_argument("--train", type=integer(0), help="train frames (default from the config)")
-    p.add_argument("--val", type=integer(0), help="validation frames")
-    p.add_argument("--test", type=integer(0), help="test frames")
-    p.add_argument("--seed", type=int, help="base seed (default from the config)")
+    p.add_argument("--train", type=integer(0, 1_000_000),
+                   help="train frames (default from the config)")
+    p.add_argument("--val", type=integer(0, 1_000_000), help="validation frames")
+    p.add_argument("--test", type=integer(0, 1_000_000), help="test frames")
+    p.add_argument("--seed", type=seed(), help="base seed (default from the config)")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_data)
@@ -59,7 +60,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                    help="data set folder (or its data.yaml)")
     p.add_argument("--out", type=Path, default=Path("runs/train-detector"), help="run folder")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
-    p.add_argument("--epochs", type=integer(1), help="override train.epochs")
+    p.add_argument("--epochs", type=integer(1, 10_000), help="override train.epochs")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--export", type=Path,
                    help="copy the best weights here (e.g. assets/models/detector.pt) and "
@@ -91,7 +92,7 @@ def add_export(sub: argparse._SubParsersAction) -> None:
                    help="ultralytics weights (default: the shipped detector.pt)")
     p.add_argument("--out", type=Path, default=DEFAULT_DETECTOR,
                    help="ONNX file (default: the shipped detector.onnx)")
-    p.add_argument("--imgsz", type=integer(1),
+    p.add_argument("--imgsz", type=integer(32, 4096),
                    help="longer input side in pixels (default: detect.imgsz of the config)")
     p.set_defaults(func=run_export)
 

@@ -10,7 +10,7 @@ import argparse
 import json
 from pathlib import Path
 
-from app.core.cli_args import integer
+from app.core.cli_args import integer, seed
 from app.core.paths import MODELS_DIR
 
 DEFAULT_MODEL = MODELS_DIR / "vqg.pt"
@@ -24,9 +24,9 @@ def add_data(sub: argparse._SubParsersAction) -> None:
                        "questions/{split}.jsonl and meta.json in --out. Resumable.")
     p.add_argument("--out", type=Path, required=True, help="data set folder")
     for split in ("train", "val", "test"):
-        p.add_argument(f"--{split}", type=integer(0),
+        p.add_argument(f"--{split}", type=integer(0, 1_000_000),
                        help=f"{split} images (default from the config)")
-    p.add_argument("--seed", type=int, help="base seed (default from the config)")
+    p.add_argument("--seed", type=seed(), help="base seed (default from the config)")
     p.add_argument("--no-household", action="store_true",
                    help="only the rendered scenes, none of the frames of the shipped worlds "
                    "(household.splits)")
@@ -65,10 +65,12 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to evaluate")
-    p.add_argument("--images", type=integer(1), help="test images (default eval.images: 50)")
+    p.add_argument("--images", type=integer(1, 100_000),
+                   help="test images (default eval.images: 50)")
     p.add_argument("--split", choices=["test", "val"], default="test",
                    help="score these images (val: to tune decode settings, default test)")
-    p.add_argument("--samples", type=integer(1), help="latent samples per image (default 100)")
+    p.add_argument("--samples", type=integer(1, 10_000),
+                   help="latent samples per image (default 100)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-eval"),
                    help="folder for metrics.json")
@@ -90,9 +92,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                        description="Print up to -n distinct questions about an RGB image, "
                        "best first, one a line.")
     p.add_argument("image", type=Path, metavar="IMAGE.png")
-    p.add_argument("-n", type=integer(1), default=10, help="how many questions (default 10)")
+    p.add_argument("-n", type=integer(1, 1000), default=10, help="how many questions (default 10)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to use")
-    p.add_argument("--seed", type=int, default=0, help="seed of the latent codes")
+    p.add_argument("--seed", type=seed(), default=0, help="seed of the latent codes")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml (decode)")
     p.set_defaults(func=run_ask)
 

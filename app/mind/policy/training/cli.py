@@ -9,7 +9,7 @@ import argparse
 import json
 from pathlib import Path
 
-from app.core.cli_args import integer
+from app.core.cli_args import integer, seed
 from app.mind.policy.config import DEFAULT_POLICY
 
 MODELS_DIR = DEFAULT_POLICY.parent
@@ -41,8 +41,9 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--policy", type=Path, default=DEFAULT_POLICY, help="policy file to test")
     p.add_argument("--config", type=Path, help="policy YAML (its env section is used)")
     p.add_argument("--personality", type=Path, help="personality YAML")
-    p.add_argument("--episodes", type=integer(1), default=100, help="test episodes (default 100)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the test episodes")
+    p.add_argument("--episodes", type=integer(1, 100_000), default=100,
+                   help="test episodes (default 100)")
+    p.add_argument("--seed", type=seed(), default=0, help="seed of the test episodes")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--demonstrator", action="store_true",
                    help="also test the rule that demonstrated to the DQN in training: the "

@@ -1,0 +1,42 @@
+"""Termination signals as exceptions: inside :func:`terminable`, SIGTERM (what ``timeout``,
+``kill`` and container stops send) raises :class:`Terminated`, a ``KeyboardInterrupt``, so a
+run or a training stops the way Ctrl-C stops it: everything written so far is kept and the
+last files are written. :func:`exit_status` gives the shell's code for the signal (130 for
+SIGINT, 143 for SIGTERM)."""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
+from types import FrameType
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM arrived."""
+
+
+def _raise(signum: int, frame: FrameType | None) -> None:
+    raise Terminated()
+
+
+@contextlib.contextmanager
+def terminable() -> Iterator[None]:
+    """Within the block, SIGTERM raises :class:`Terminated` (main thread only; elsewhere the
+    block runs with the handlers as they are)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def exit_status(interrupt: BaseException | None) -> int:
+    """0 without an interrupt, 143 for SIGTERM, 130 for SIGINT."""
+    if interrupt is None:
+        return 0
+    return 128 + (signal.SIGTERM if isinstance(interrupt, Terminated) else signal.SIGINT)
