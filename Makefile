@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/companion run $(WORLD) --out $(OUT)
+	$(BIN)/companion run $(WORLD) --out $(OUT) --overwrite
 
 # lint-imports checks the import contracts of pyproject.toml (the layers of docs/architecture.md).
 test: $(STAMP)

@@ -13,6 +13,7 @@ import sys
 
 from app import __version__
 from app.core.errors import UserError
+from app.core.signals import exit_status, signal_name, terminable
 
 DOMAINS = ["app.mind.policy.training.cli", "dialogue.cli", "dialogue.style.training.cli",
            "dialogue.chat.training.cli", "perception.detector.training.cli",
@@ -45,13 +46,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; configuration and model-file errors exit with status 2."""
+    """Run the command line: configuration, input and model-file errors exit with status 2,
+    and SIGINT or SIGTERM before a command's own handling exits 130 or 143."""
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
+        with terminable():
+            return args.func(args)
     except (UserError, FileExistsError) as exc:
         print(f"companion: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as exc:
+        print(f"companion: interrupted ({signal_name(exc)})", file=sys.stderr)
+        return exit_status(exc)
 
 
 if __name__ == "__main__":

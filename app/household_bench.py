@@ -82,7 +82,8 @@ def run_one(run: BenchRun, out: Path) -> dict[str, Any]:
     metrics = _complete(folder)
     if metrics is None:
         cmd = [sys.executable, "-m", "app.cli", "run", str(WORLDS_DIR / f"{run.world}.yaml"),
-               "--out", str(folder), "--seed", str(run.seed), "--no-progress", "--json"]
+               "--out", str(folder), "--overwrite", "--seed", str(run.seed), "--no-progress",
+               "--json"]
         if run.duration is not None:
             cmd += ["--duration", str(run.duration)]
         done = subprocess.run(cmd, capture_output=True, text=True)

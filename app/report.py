@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import csv
+import io
 import json
 from collections import Counter, defaultdict
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import matplotlib
 
@@ -14,34 +15,39 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from app.core.checkpoint import atomic_write, atomic_write_bytes
+from app.core.events import LineFile
 from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
 
 
 class TimelineWriter:
-    """``timeline.csv``: one flushed row per homeostasis step."""
+    """``timeline.csv``: the rows of each homeostasis step written whole (a killed run
+    leaves no half row)."""
 
     def __init__(self, path: Path) -> None:
-        self._fh: IO[str] = open(path, "w", newline="", encoding="utf-8")  # noqa: SIM115
-        self._csv = csv.writer(self._fh)
-        self._csv.writerow(["t", "action", "relieving", *DRIVES,
-                            *(f"m_{m}" for m in MOTIVATIONS), *STIMULI, "mood",
-                            "mood_positive", "secure"])
+        self._file = LineFile(path)
         self.written = 0
+        self._rows([["t", "action", "relieving", *DRIVES, *(f"m_{m}" for m in MOTIVATIONS),
+                     *STIMULI, "mood", "mood_positive", "secure"]])
+
+    def _rows(self, rows: list[list[Any]]) -> None:
+        text = io.StringIO()
+        csv.writer(text).writerows(rows)
+        self._file.write(text.getvalue())
 
     def write(self, rows: list[dict[str, Any]]) -> None:
         """Write the rows not written yet."""
-        for r in rows[self.written:]:
-            self._csv.writerow([r["t"], r["action"], int(r["relieving"]),
-                                *np.round(r["drives"], 5), *np.round(r["motivations"], 5),
-                                *r["stimuli"].astype(int), round(r["mood"], 5),
-                                int(r["mood_positive"]), int(r["secure"])])
         if len(rows) > self.written:
-            self._fh.flush()
+            self._rows([[r["t"], r["action"], int(r["relieving"]),
+                         *np.round(r["drives"], 5), *np.round(r["motivations"], 5),
+                         *r["stimuli"].astype(int), round(r["mood"], 5),
+                         int(r["mood_positive"]), int(r["secure"])]
+                        for r in rows[self.written:]])
         self.written = len(rows)
 
     def close(self) -> None:
         """Close the file."""
-        self._fh.close()
+        self._file.close()
 
 
 def compute_metrics(history: list[dict[str, Any]], events: list[dict[str, Any]]
@@ -112,10 +118,8 @@ def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
 
 
 def write_metrics(metrics: dict[str, Any], path: Path) -> None:
-    """Write ``metrics.json`` (to a temporary name first, then renamed)."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(json.dumps(metrics, indent=2) + "\n")
-    tmp.replace(path)
+    """Write ``metrics.json`` atomically."""
+    atomic_write_bytes(path, (json.dumps(metrics, indent=2) + "\n").encode())
 
 
 def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray,
@@ -169,6 +173,6 @@ def _spans(t: np.ndarray, on: np.ndarray) -> list[tuple[float, float]]:
 
 def _save(fig: Any, path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    atomic_write(path, lambda fh: fig.savefig(fh, dpi=90, format="png"))
     plt.close(fig)
     return path

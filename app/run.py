@@ -5,7 +5,9 @@ homeostasis step), ``dialogue.jsonl``, ``metrics.json``, ``plots/*.png``, ``fram
 (the camera at key moments), ``tree.txt`` (the tree's shape and its last statuses) and
 ``scenario.yaml`` (the scenario as run). Each question the robot asks is scored against the
 world's ground truth of what its camera shows (a ``question_truth`` event; the robot never
-sees it). An interrupted run keeps everything written so far and still writes its metrics.
+sees it). The folder is claimed for the run (a lock; an earlier run is replaced only on
+request). Every file is written whole: reports atomically, logs a line at a time. A run
+stopped by SIGINT or SIGTERM keeps everything written so far and still writes its report.
 """
 
 from __future__ import annotations
@@ -21,6 +23,9 @@ import numpy as np
 import yaml
 from tqdm import tqdm
 
+from app.core.checkpoint import atomic_write_bytes
+from app.core.run_folder import RunFolderError, claim, release
+from app.core.signals import shielded, signal_name, terminable
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import DEFAULT_POLICY
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
@@ -43,28 +48,36 @@ from perception.vqg.training.household import check_occasion, household_scene, j
 
 
 class FrameSaver:
-    """Saves camera frames as ``frames/NNNN-tTTTT-tag.png``, at most ``limit`` of them; with
-    a scene graph, the world's account of what the frame shows goes beside it as
+    """Saves camera frames as ``frames/NNNN-tTTTT-tag.png``, each written whole: at most
+    ``limit`` key moments, and at most ``photo_limit`` photos people asked for. With a scene
+    graph, the world's account of what the frame shows goes beside it as
     ``NNNN-tTTTT-tag.json`` (``companion eval vqg --household`` reads both)."""
 
-    def __init__(self, folder: Path, clock: Any, limit: int = 60) -> None:
-        self.folder, self.clock, self.limit, self.count = folder, clock, limit, 0
+    def __init__(self, folder: Path, clock: Any, limit: int = 60, photo_limit: int = 200
+                 ) -> None:
+        self.folder, self.clock, self.count = folder, clock, 0
+        self.left = {"key": limit, "photo": photo_limit}
 
     def __call__(self, tag: str, frame: np.ndarray, scene: SceneGraph | None = None
                  ) -> str | None:
-        if frame is None or self.count >= self.limit:
+        kind = "photo" if tag == "photo" else "key"
+        if frame is None or self.left[kind] <= 0:
             return None
-        self.folder.mkdir(parents=True, exist_ok=True)
+        ok, png = cv2.imencode(".png", cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+        if not ok:
+            return None
+        self.left[kind] -= 1
         self.count += 1
         path = self.folder / f"{self.count:04d}-t{self.clock():07.1f}-{tag}.png"
-        cv2.imwrite(str(path), cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))
+        atomic_write_bytes(path, png.tobytes())
         self.describe(path.name, scene)
         return path.name
 
     def describe(self, name: str | None, scene: SceneGraph | None) -> None:
         """Write ``scene`` beside the saved frame ``name`` (nothing when either is None)."""
         if name is not None and scene is not None:
-            (self.folder / name).with_suffix(".json").write_text(scene.to_json())
+            atomic_write_bytes((self.folder / name).with_suffix(".json"),
+                               scene.to_json().encode())
 
 
 @dataclass
@@ -77,6 +90,8 @@ class HouseholdRun:
     ctx: Context
     tree: SimulationTree
     saver: FrameSaver
+    out: Path
+    timeline: TimelineWriter | None = None
 
 
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
@@ -94,7 +109,11 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:
-        return out / "frames" / str(saver("photo", sim.robot.camera_frame()))
+        name = saver("photo", sim.robot.camera_frame())
+        if name is None:
+            raise RuntimeError(f"no photo saved (camera frame missing, or "
+                               f"{saver.left['photo']} photos left)")
+        return out / "frames" / name
 
     dialogue = household_dialogue(scenario, lambda: sim.t, out, take_photo,
                                   songs=song_names(config.sing_dance.resolved_routines()))
@@ -108,62 +127,93 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     ctx.snapshot = saver
     tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
     tree.setup()
-    return HouseholdRun(scenario, sim, ctx, tree, saver)
+    return HouseholdRun(scenario, sim, ctx, tree, saver, out)
 
 
 def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
                  policy_path: Path | None = None, behaviour_config: Path | None = None,
-                 audio: bool = False) -> dict[str, Any]:
-    """Run ``scenario`` for its duration and write the run folder; returns the metrics."""
+                 audio: bool = False, overwrite: bool = False) -> dict[str, Any]:
+    """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
+    :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) and return the
+    metrics. SIGINT or SIGTERM ends the run early: the report is still written and
+    ``metrics["interrupted_by"]`` names the signal. A failed write (a full disk) stops the run
+    with a :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
     wall0 = time.perf_counter()
-    run = build_run(scenario, out, gui=gui, policy_path=policy_path,
-                    behaviour_config=behaviour_config, audio=audio)
-    (out / "scenario.yaml").write_text(yaml.safe_dump(scenario.model_dump(mode="json"),
-                                                      sort_keys=False))
-    sim, ctx, tree, saver = run.sim, run.ctx, run.tree, run.saver
+    check_occasion(scenario)   # before anything is built or written
+    claim(out, overwrite)
+    try:
+        run = build_run(scenario, out, gui=gui, policy_path=policy_path,
+                        behaviour_config=behaviour_config, audio=audio)
+        atomic_write_bytes(out / "scenario.yaml", yaml.safe_dump(
+            scenario.model_dump(mode="json"), sort_keys=False).encode())
+        with run.sim:
+            interrupt = _play(run, progress)
+            with shielded():
+                return _finish(run, out, interrupt, wall0)
+    except OSError as exc:
+        raise RunFolderError(f"{exc.filename or out}: writing the run failed "
+                             f"({exc.strerror or exc}); the files written before it are kept"
+                             ) from None
+    finally:
+        release(out)
+
+
+def _play(run: HouseholdRun, progress: bool) -> KeyboardInterrupt | None:
+    """Tick the run to its end, or until SIGINT/SIGTERM (returned)."""
+    scenario, sim, ctx, tree, saver = run.scenario, run.sim, run.ctx, run.tree, run.saver
     visibility = load_vqg_data_config().visibility
-    with sim:
-        (out / "tree.txt").write_text(render(tree.root) + "\n")
-        timeline = TimelineWriter(out / "timeline.csv")
-        ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
-                        duration=scenario.duration, step=scenario.step)
-        steps, interrupted, seen = round(scenario.duration / scenario.step), False, 0
-        try:
-            with tqdm(total=scenario.duration, unit="sim s", disable=not progress,
-                      bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} sim s [{elapsed}]") as bar:
-                for _ in range(steps):
-                    tree.tick()
-                    timeline.write(ctx.history)
-                    for e in ctx.events.events[seen:]:
-                        if e["kind"] == "action":
-                            frame, scene = household_scene(sim, visibility)
-                            saver(e["action"], frame, scene)
-                        elif e["kind"] == "question":  # scored by the world's ground truth
-                            _, scene = household_scene(sim, visibility)
-                            saver.describe(e["frame"], scene)
-                            ctx.events.emit("question_truth", question=e["text"],
-                                            **judge_question(e["text"], scene))
-                    seen = len(ctx.events.events)
-                    bar.update(scenario.step)
-        except KeyboardInterrupt:
-            interrupted = True
-            ctx.events.emit("interrupted")
-        (out / "tree.txt").write_text(render(tree.root) + "\n\nLast tick:\n"
-                                      + render(tree.root, show_status=True) + "\n")
-        tree.stop()
-        timeline.close()
-        ctx.events.emit("run_finished", interrupted=interrupted)
-        ctx.events.close()
-        metrics = {
-            "scenario": scenario.name, "seed": scenario.seed, "duration_s": sim.t,
-            "interrupted": interrupted, **compute_metrics(ctx.history, ctx.events.events),
-            "camera_frames": ctx.frames_taken,
-            "camera_rate_hz": {"default": ctx.camera_rate,
-                               "tracking": ctx.config.perception.tracking_rate},
-            "wall_s": round(time.perf_counter() - wall0, 2),
-            "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        }
-        h = ctx.homeostasis
-        plot_run(ctx.history, h.lower, h.upper, h.personality.mood.threshold, out / "plots")
+    atomic_write_bytes(run.out / "tree.txt", (render(tree.root) + "\n").encode())
+    run.timeline = TimelineWriter(run.out / "timeline.csv")
+    ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
+                    duration=scenario.duration, step=scenario.step)
+    seen = 0
+    try:
+        with terminable(), tqdm(total=scenario.duration, unit="sim s",
+                                disable=None if progress else True,  # None: not off a tty
+                                bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} sim s "
+                                "[{elapsed}]") as bar:
+            for _ in range(round(scenario.duration / scenario.step)):
+                tree.tick()
+                run.timeline.write(ctx.history)
+                for e in ctx.events.events[seen:]:
+                    if e["kind"] == "action":
+                        frame, scene = household_scene(sim, visibility)
+                        saver(e["action"], frame, scene)
+                    elif e["kind"] == "question":  # scored by the world's ground truth
+                        _, scene = household_scene(sim, visibility)
+                        saver.describe(e["frame"], scene)
+                        ctx.events.emit("question_truth", question=e["text"],
+                                        **judge_question(e["text"], scene))
+                seen = len(ctx.events.events)
+                bar.update(scenario.step)
+    except KeyboardInterrupt as interrupt:
+        ctx.events.emit("interrupted", signal=signal_name(interrupt))
+        return interrupt
+    return None
+
+
+def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, wall0: float
+            ) -> dict[str, Any]:
+    """Stop the tree and write the report: tree.txt, metrics.json, then the plots."""
+    scenario, sim, ctx, tree = run.scenario, run.sim, run.ctx, run.tree
+    atomic_write_bytes(out / "tree.txt", (render(tree.root) + "\n\nLast tick:\n" + render(
+        tree.root, show_status=True) + "\n").encode())
+    tree.stop()
+    run.timeline.close()
+    ctx.events.emit("run_finished", interrupted=interrupt is not None)
+    ctx.events.close()
+    metrics = {
+        "scenario": scenario.name, "seed": scenario.seed, "duration_s": sim.t,
+        "interrupted": interrupt is not None,
+        "interrupted_by": signal_name(interrupt) if interrupt is not None else None,
+        **compute_metrics(ctx.history, ctx.events.events),
+        "camera_frames": ctx.frames_taken,
+        "camera_rate_hz": {"default": ctx.camera_rate,
+                           "tracking": ctx.config.perception.tracking_rate},
+        "wall_s": round(time.perf_counter() - wall0, 2),
+        "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+    }
     write_metrics(metrics, out / "metrics.json")
+    h = ctx.homeostasis
+    plot_run(ctx.history, h.lower, h.upper, h.personality.mood.threshold, out / "plots")
     return metrics

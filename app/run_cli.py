@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -27,7 +28,11 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--duration", type=real(above=0, below=MAX_DURATION_S + 1e-9),
                    help="simulated seconds (default: the scenario's)")
     p.add_argument("--seed", type=seed(), help="seed (default: the scenario's)")
-    p.add_argument("--out", type=Path, help="run folder (default: runs/<scenario name>)")
+    p.add_argument("--out", type=Path,
+                   help="run folder (default: runs/<scenario name>-<date>-<time>); a folder "
+                   "holding an earlier run is refused unless --overwrite")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the earlier run in --out (its files are deleted first)")
     p.add_argument("--gui", action="store_true", help="open the PyBullet window")
     p.add_argument("--policy", type=Path, help="policy file (default: the shipped DQN)")
     p.add_argument("--behaviour", type=Path,
@@ -77,6 +82,7 @@ def bench_command(args: argparse.Namespace) -> int:
 def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
     from app.core.errors import UserError
+    from app.core.run_folder import default_folder
     from app.run import run_scenario
     from app.sim.scenario import load_scenario
 
@@ -89,14 +95,18 @@ def run_command(args: argparse.Namespace) -> int:
     scenario = scenario.model_copy(update=update)
     if args.gui and not os.environ.get("DISPLAY"):
         raise UserError("--gui needs a display (DISPLAY is not set); run headless without it")
-    out = args.out or Path("runs") / scenario.name
+    out = args.out or default_folder(Path("runs"), scenario.name)
     metrics = run_scenario(scenario, out, gui=args.gui, progress=not args.no_progress,
                            policy_path=args.policy, behaviour_config=args.behaviour,
-                           audio=args.audio)
+                           audio=args.audio, overwrite=args.overwrite)
+    status = 128 + getattr(signal, metrics["interrupted_by"]) if metrics["interrupted"] else 0
     if args.json:
         print(json.dumps(metrics))
     else:
         print(f"run folder: {out}")
+        if metrics["interrupted"]:
+            print(f"  INTERRUPTED by {metrics['interrupted_by']} at "
+                  f"{metrics['duration_s']:.1f} of {scenario.duration:g} simulated s")
         for key in ("duration_s", "rsr", "mood_positive_share", "preemptions",
                     "sentences_said", "lines_heard", "lines_answered", "lines_replied",
                     "answer_latency_s_median", "dont_know_answers", "find_people_tries",
@@ -105,4 +115,4 @@ def run_command(args: argparse.Namespace) -> int:
             print(f"  {key:24s} {metrics[key]}")
         print(f"  {'actions':24s} {metrics['actions_started']}")
         print(f"  {'skill success':24s} {metrics['skill_success_rate']}")
-    return 0
+    return status

@@ -41,7 +41,8 @@ import numpy as np
 import pybullet as p
 from py_trees.common import Status
 
-from app.sim.scenario import Placement, Scenario, Start, load_scenario
+from app.sim.layout import Placement
+from app.sim.scenario import Scenario, Start, load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import speech_seconds
 from app.sim.world import Footprint, World

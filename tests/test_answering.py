@@ -11,8 +11,9 @@ import pytest
 
 from app.report import interaction_metrics
 from app.run import build_run
+from app.sim.layout import Placement
 from app.sim.robot import wrap_angle
-from app.sim.scenario import Event, Placement, Start, load_scenario
+from app.sim.scenario import Event, Start, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -8,7 +8,8 @@ import pytest
 from conftest import WEIGHTS
 from py_trees.common import Status
 
-from app.sim.scenario import Placement, Start, load_scenario
+from app.sim.layout import Placement
+from app.sim.scenario import Start, load_scenario
 from app.sim.simulation import Simulation
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config

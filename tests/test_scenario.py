@@ -128,6 +128,17 @@ BROKEN = [
     ("furniture.0.type", "piano", "furniture[0].type: Input should be 'table'"),
     ("camera_rate", 50, "camera_rate: Input should be less than or equal to 30"),
     ("time_of_day", "25:00", "time_of_day: String should match pattern"),
+    ("duration", float("inf"), "duration: Input should be a finite number"),
+    ("duration", float("nan"), "duration: Input should be a finite number"),
+    ("duration", 1e300, "duration: Input should be less than or equal to 604800"),
+    ("seed", 10**23, "seed: Input should be less than or equal to 4294967295"),
+    ("robot.start", {"x": 2.5, "y": 2.0}, "robot.start: (2.5, 2) is inside the table 'table'"),
+    ("robot.start", {"x": 3.0, "y": 0.1}, "robot.start: (3, 0.1) is inside the south wall of"),
+    ("people.0.start", {"x": 2.5, "y": 4.0},
+     "people[0].start: (2.5, 4) is inside the north wall of 'room'"),
+    ("people.0.start", {"x": 2.3, "y": 1.8, "pose": "sitting"},
+     "people[0].start: (2.3, 1.8) is inside the table 'table'"),
+    ("dock", {"x": 2.9, "y": 2.3}, "dock: (2.9, 2.3) is inside the table 'table'"),
 ]
 
 
@@ -136,6 +147,29 @@ BROKEN = [
 def test_broken_scenarios_name_the_key(tmp_path, path, value, expected):
     found = problems(tmp_path, _set(minimal(), path, value))
     assert any(p.startswith(expected) for p in found), found
+
+
+def test_a_door_opens_the_wall_and_seats_hold_seated_people(tmp_path):
+    data = minimal()
+    data["robot"]["start"] = {"x": 1.0, "y": 0.05}   # in the door gap of the south wall
+    data["furniture"].append({"name": "sofa", "type": "sofa", "x": 0.6, "y": 2.5})
+    data["people"][0]["start"] = {"x": 0.6, "y": 2.5, "pose": "sitting"}
+    assert load_scenario(write(tmp_path, data)).robot.start.y == 0.05
+    data["people"][0]["start"]["pose"] = "standing"
+    assert problems(tmp_path, data) == ["people[0].start: (0.6, 2.5) is inside the sofa 'sofa'"]
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("name: a\nname: b\n", "not valid YAML: line 2, column 1: found the key 'name' twice"),
+    ("rooms: [\n", "not valid YAML: line 2, column 1"),
+    ("- 1\n", "top level must be a mapping"),
+])
+def test_bad_yaml_is_one_clear_problem(tmp_path, text, expected):
+    path = tmp_path / "s.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as exc:
+        load_scenario(path)
+    assert len(exc.value.problems) == 1 and exc.value.problems[0].startswith(expected)
 
 
 def test_all_problems_are_reported_together(tmp_path):

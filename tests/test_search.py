@@ -13,7 +13,8 @@ from conftest import WEIGHTS
 from py_trees.common import Status
 from test_find_people import find
 
-from app.sim.scenario import Placement, Start, load_scenario
+from app.sim.layout import Placement
+from app.sim.scenario import Start, load_scenario
 from app.sim.simulation import Simulation
 from behaviours.context import make_context
 from behaviours.skills.detour import Detour

@@ -124,7 +124,7 @@ class Run(Generic[C]):
                                    keep=lambda row: int(row[0]) <= start)
         writer = csv.writer(log)
         bar = tqdm(total=total, initial=start, desc=f"{self.name} {phase}",
-                   disable=not self.progress)
+                   disable=None if self.progress else True)  # None: no bar off a terminal
         sums: dict[str, list[float]] = defaultdict(list)
         done = start
 

@@ -39,4 +39,24 @@ def exit_status(interrupt: BaseException | None) -> int:
     """0 without an interrupt, 143 for SIGTERM, 130 for SIGINT."""
     if interrupt is None:
         return 0
-    return 128 + (signal.SIGTERM if isinstance(interrupt, Terminated) else signal.SIGINT)
+    return 128 + getattr(signal, signal_name(interrupt))
+
+
+@contextlib.contextmanager
+def shielded() -> Iterator[None]:
+    """Within the block, SIGINT and SIGTERM are ignored, so the last files of an interrupted
+    run are written whole (the block must be short; main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+def signal_name(interrupt: BaseException) -> str:
+    """``SIGTERM`` for :class:`Terminated`, else ``SIGINT``."""
+    return "SIGTERM" if isinstance(interrupt, Terminated) else "SIGINT"

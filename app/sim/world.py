@@ -21,8 +21,9 @@ from typing import NamedTuple
 import pybullet as p
 import pybullet_data
 
+from app.sim.layout import Furniture, Placement, SceneObject, rgb
 from app.sim.people import Appearance, Part, Person, build_body, joint_xml, link_xml, load_urdf_text
-from app.sim.scenario import Event, Furniture, Placement, Scenario, SceneObject, load_scenario, rgb
+from app.sim.scenario import Event, Scenario, load_scenario
 
 Rgb = tuple[float, float, float]
 WALL_THICKNESS = 0.1

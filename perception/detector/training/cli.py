@@ -43,7 +43,7 @@ def run_data(args: argparse.Namespace) -> int:
         update["seed"] = args.seed
     cfg = cfg.model_copy(update=update)
     total = cfg.splits.train + cfg.splits.val + cfg.splits.test
-    with tqdm(total=total, unit="frame", disable=args.no_progress) as bar:
+    with tqdm(total=total, unit="frame", disable=True if args.no_progress else None) as bar:
         done = write_dataset(args.out, cfg, bar.update)
     print(f"rendered {sum(done.values())} of {total} frames into {args.out} "
           f"({', '.join(f'{k} {v}' for k, v in done.items())})")

@@ -57,7 +57,7 @@ def write_vqg_dataset(out: Path, cfg: VqgDataConfig, splits: dict[str, int],
     out = Path(out)
     household = household or {}
     bar = tqdm(total=sum(splits.values()) + sum(household.values()), unit="frame",
-               disable=progress is not True)
+               disable=None if progress is True else True)  # None: not off a terminal
     tick = progress if callable(progress) else bar.update
     renderer = make_renderer(cfg)
     done = dict.fromkeys(splits, 0)

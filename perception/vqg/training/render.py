@@ -20,8 +20,8 @@ import numpy as np
 import pybullet as p
 import pybullet_data
 
+from app.sim.layout import SceneObject
 from app.sim.people import Part, Person, build_body, load_urdf_text
-from app.sim.scenario import SceneObject
 from app.sim.world import URDF_OBJECTS, furniture_parts, object_xml
 from perception.detector.config import ImageConfig, load_detector_config
 from perception.detector.training.data import DetectorScene, room_parts
