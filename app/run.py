@@ -46,6 +46,8 @@ from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import load_vqg_data_config
 from perception.vqg.training.household import check_occasion, household_scene, judge_question
 
+RESOURCE_PERIOD_S = 300.0   # simulated seconds between two `resources` events
+
 
 class FrameSaver:
     """Saves camera frames as ``frames/NNNN-tTTTT-tag.png``, each written whole: at most
@@ -147,7 +149,7 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
         atomic_write_bytes(out / "scenario.yaml", yaml.safe_dump(
             scenario.model_dump(mode="json"), sort_keys=False).encode())
         with run.sim:
-            interrupt = _play(run, progress)
+            interrupt = _play(run, progress, wall0)
             with shielded():
                 return _finish(run, out, interrupt, wall0)
     except OSError as exc:
@@ -158,7 +160,13 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
         release(out)
 
 
-def _play(run: HouseholdRun, progress: bool) -> KeyboardInterrupt | None:
+def resident_mb() -> float:
+    """This process's resident memory now (MB), from /proc/self/statm."""
+    pages = int(Path("/proc/self/statm").read_text().split()[1])
+    return round(pages * resource.getpagesize() / 2**20, 1)
+
+
+def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt | None:
     """Tick the run to its end, or until SIGINT/SIGTERM (returned)."""
     scenario, sim, ctx, tree, saver = run.scenario, run.sim, run.ctx, run.tree, run.saver
     visibility = load_vqg_data_config().visibility
@@ -166,7 +174,7 @@ def _play(run: HouseholdRun, progress: bool) -> KeyboardInterrupt | None:
     run.timeline = TimelineWriter(run.out / "timeline.csv")
     ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
                     duration=scenario.duration, step=scenario.step)
-    seen = 0
+    seen, next_sample = 0, 0.0
     try:
         with terminable(), tqdm(total=scenario.duration, unit="sim s",
                                 disable=None if progress else True,  # None: not off a tty
@@ -185,6 +193,10 @@ def _play(run: HouseholdRun, progress: bool) -> KeyboardInterrupt | None:
                         ctx.events.emit("question_truth", question=e["text"],
                                         **judge_question(e["text"], scene))
                 seen = len(ctx.events.events)
+                if sim.t >= next_sample:   # memory over time, for soaks (bench/bench_soak.py)
+                    ctx.events.emit("resources", rss_mb=resident_mb(),
+                                    wall_s=round(time.perf_counter() - wall0, 1))
+                    next_sample += RESOURCE_PERIOD_S
                 bar.update(scenario.step)
     except KeyboardInterrupt as interrupt:
         ctx.events.emit("interrupted", signal=signal_name(interrupt))

@@ -28,6 +28,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--duration", type=real(above=0, below=MAX_DURATION_S + 1e-9),
                    help="simulated seconds (default: the scenario's)")
     p.add_argument("--seed", type=seed(), help="seed (default: the scenario's)")
+    p.add_argument("--loop", action="store_true",
+                   help="play the people's timelines again every <scenario duration> s, "
+                   "everyone back at their start (with a longer --duration: a soak)")
     p.add_argument("--out", type=Path,
                    help="run folder (default: runs/<scenario name>-<date>-<time>); a folder "
                    "holding an earlier run is refused unless --overwrite")
@@ -87,7 +90,7 @@ def run_command(args: argparse.Namespace) -> int:
     from app.sim.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
-    update: dict = {}
+    update: dict = {"loop_period": scenario.duration} if args.loop else {}
     if args.duration is not None:
         update["duration"] = args.duration
     if args.seed is not None:

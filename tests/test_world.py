@@ -219,3 +219,27 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
             worst = max(worst, float(np.abs(measured - targets).max()))
         assert sim.world.people_positions()["Tom"].y > 3.5   # Tom walked through the robot
     assert worst < 0.05
+
+
+def test_a_looping_timeline_brings_everyone_back_each_period(tmp_path):
+    """With loop_period, the people's events play again every period from their starts."""
+    scenario = load_scenario(Path(__file__).resolve().parents[1] / "worlds" / "nursing_home.yaml")
+    scenario = scenario.model_copy(update={"loop_period": scenario.duration})
+    client = p.connect(p.DIRECT)
+    try:
+        world = World(scenario, client)
+        said: list[tuple[float, str]] = []
+        step, t = 0.5, 0.0
+        while t < 2 * scenario.duration + 30:
+            said += [(ev.t, ev.text) for ev in world.advance(t, t + step)
+                     if hasattr(ev, "text")]
+            t += step
+            if abs(t - scenario.duration) < 1e-9:
+                starts = {s.name for s in scenario.people if s.start is not None}
+                assert set(world.people) == starts
+        first = [text for at, text in said if at < scenario.duration]
+        second = [text for at, text in said if scenario.duration <= at < 2 * scenario.duration]
+        assert first and first == second
+        assert all(at >= scenario.duration for at, text in said[len(first):])
+    finally:
+        p.disconnect(client)

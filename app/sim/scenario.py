@@ -196,6 +196,7 @@ class Scenario(StrictModel):
     description: str = ""
     seed: int = Field(default=0, ge=0, le=SEED_MAX)
     duration: float = Field(gt=0, le=MAX_DURATION_S)
+    loop_period: float | None = Field(default=None, gt=0)  # people's timelines repeat (s)
     step: float = Field(default=0.1, gt=0, le=1)
     camera_rate: float = Field(default=1.0, gt=0, le=30)
     time_of_day: str = Field(default="10:00", pattern=r"^([01]\d|2[0-3]):[0-5]\d$")
@@ -298,9 +299,11 @@ def _event_problems(s: Scenario) -> list[str]:
         here, last = person.start is not None, 0.0
         for j, e in enumerate(person.events):
             path = f"people[{i}].events[{j}]"
-            if e.at >= s.duration:
-                out.append(f"{path}.at: {e.at:g} s is not before the end of the scenario "
-                           f"(duration {s.duration:g} s)")
+            end = s.loop_period or s.duration
+            if e.at >= end:
+                what = "its loop_period" if s.loop_period else "the end of the scenario (duration"
+                out.append(f"{path}.at: {e.at:g} s is not before {what} {end:g} s"
+                           + ("" if s.loop_period else ")"))
             if e.at < last:
                 out.append(f"{path}.at: events must be in time order ({e.at:g} < {last:g})")
             last = max(last, e.at)

@@ -516,14 +516,42 @@ class World:
             return EmotionEvent(t, name, e.emotion)
         return None
 
+    def _play(self, t_prev: float, t_now: float, offset: float) -> list[SocialEvent]:
+        """Apply the timeline's events in ``[t_prev, t_now)`` of one cycle starting at
+        ``offset`` (absolute time)."""
+        lo = bisect.bisect_left(self._times, t_prev)
+        hi = bisect.bisect_left(self._times, t_now)
+        return [ev for t, name, e in self._timeline[lo:hi]
+                if (ev := self._apply(offset + t, name, e)) is not None]
+
+    def _restart_people(self) -> None:
+        """Everyone back to their start (absent ones gone): a looping timeline's new cycle."""
+        for person in self.people.values():
+            person.remove()
+        self.people.clear()
+        self._walks.clear()
+        for spec in self.scenario.people:
+            if spec.start is not None:
+                self._spawn(spec.name, spec.start.x, spec.start.y, math.radians(spec.start.yaw),
+                            spec.start.pose)
+
     def advance(self, t_prev: float, t_now: float) -> list[SocialEvent]:
         """Play the timeline over ``[t_prev, t_now)`` and move walkers to where they are at
         ``t_now``; return the social events due, in time order. Call it with consecutive
-        intervals (0 to dt, dt to 2 dt, ...)."""
-        lo = bisect.bisect_left(self._times, t_prev)
-        hi = bisect.bisect_left(self._times, t_now)
-        social = [ev for t, name, e in self._timeline[lo:hi]
-                  if (ev := self._apply(t, name, e)) is not None]
+        intervals (0 to dt, dt to 2 dt, ...). With a ``loop_period`` the timeline starts
+        again every period, everyone back at their start."""
+        period = self.scenario.loop_period
+        if period is None:
+            social = self._play(t_prev, t_now, 0.0)
+        else:
+            cycle, cycle_now = int(t_prev // period), int(t_now // period)
+            if cycle_now > cycle:
+                social = self._play(t_prev - cycle * period, period, cycle * period)
+                self._restart_people()
+                social += self._play(0.0, t_now - cycle_now * period, cycle_now * period)
+            else:
+                social = self._play(t_prev - cycle * period, t_now - cycle * period,
+                                    cycle * period)
         for name, walk in list(self._walks.items()):
             x, y, yaw, walked, done = walk.at(t_now)
             person = self.people[name]
