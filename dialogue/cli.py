@@ -15,10 +15,13 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from app.core.paths import WORLDS_DIR
+from app.core.signals import Terminated
 from dialogue.intent import HELDOUT_FILE, MODES
+from dialogue.qa.base import DialogueError
 
 DEFAULT_SCENARIO = WORLDS_DIR / "living_room.yaml"
 ROUTING_BAR = 0.95
+NOT_UTF8 = "standard input: not UTF-8 text"
 HELP = """Type a question or just talk. Commands:
   /mode auto|qa|chitchat|<category>   route every line this way (the tablet buttons)
   /mood positive|negative|auto        force the mood, or go back to the computed one
@@ -45,7 +48,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--feed", type=Path, default=None,
                    help="RSS/Atom file for news (default: dialogue/data/news_sample.xml)")
     p.add_argument("--out", type=Path, default=None,
-                   help="folder for rendered maps (default: a new temporary folder)")
+                   help="keep the session's maps, photos and reply log (dialogue.jsonl) in this "
+                        "folder (default: a temporary folder, removed when the session ends, "
+                        "however it ends)")
     p.set_defaults(func=run_chat)
 
 
@@ -91,34 +96,49 @@ def _command(line: str, manager: Any, state: dict[str, Any], out: TextIO) -> boo
 
 def run_chat(args: argparse.Namespace, stdin: TextIO | None = None,
              stdout: TextIO | None = None) -> int:
-    """The ``chat`` REPL (or, with ``--json``, one JSON reply per stdin line)."""
-    stdin, out = stdin or sys.stdin, stdout or sys.stdout
+    """The ``chat`` REPL (or, with ``--json``, one JSON reply per stdin line). Without
+    ``--out`` the session's files go to a temporary folder that is removed on every way out:
+    the end of the input, ``/quit``, an error, Ctrl-C or SIGTERM."""
+    if args.out is not None:
+        return _chat(args, args.out, stdin or sys.stdin, stdout or sys.stdout)
+    with tempfile.TemporaryDirectory(prefix="companion-chat-") as tmp:
+        return _chat(args, Path(tmp), stdin or sys.stdin, stdout or sys.stdout)
+
+
+def _chat(args: argparse.Namespace, folder: Path, stdin: TextIO, out: TextIO) -> int:
     from dialogue.factory import chat_session, robot_mood
 
     manager, drives, personality = chat_session(args.scenario, DEFAULT_SCENARIO, args.weather,
-                                                args.feed, args.out)
+                                                args.feed, folder)
     manager.context.mode = args.mode
     computed, value, threshold = robot_mood(drives, personality)
     state = {"computed": computed, "mood": args.mood or computed}
     if args.json:
-        for raw in stdin:
-            reply = manager.respond(raw, state["mood"])
-            print(json.dumps({"input": raw.rstrip("\n"), **reply.to_dict()}), file=out,
-                  flush=True)
+        try:
+            for raw in stdin:
+                reply = manager.respond(raw, state["mood"])
+                print(json.dumps({"input": raw.rstrip("\n"), **reply.to_dict()}), file=out,
+                      flush=True)
+        except UnicodeDecodeError:
+            raise DialogueError(NOT_UTF8) from None
         return 0
     source = "forced by --mood" if args.mood else (
         f"v_mood {value:.2f} {'<=' if computed == 'positive' else '>'} threshold "
         f"{threshold:g}, drives {'from the scenario' if drives else 'all 0'}")
-    print(f"Robot mood: {state['mood']} ({source}). Maps go to {manager.qa.out_dir}.",
-          file=out)
+    kept = "" if args.out else " (a temporary folder, removed when you leave; --out DIR keeps it)"
+    print(f"Robot mood: {state['mood']} ({source}). Maps go to {folder}{kept}.", file=out)
     print("Type /help for commands, /quit to leave.", file=out, flush=True)
     interactive = stdin is sys.stdin
     while True:
         try:
             line = input("you> ") if interactive else _readline(stdin, out)
-        except (EOFError, KeyboardInterrupt):
+        except Terminated:
+            raise
+        except (EOFError, KeyboardInterrupt):  # Ctrl-D or Ctrl-C at the prompt: goodbye
             print(file=out)
             return 0
+        except UnicodeDecodeError:
+            raise DialogueError(NOT_UTF8) from None
         if line.strip().startswith("/"):
             if not _command(line, manager, state, out):
                 return 0

@@ -11,7 +11,6 @@ seq2seq model, restyled by the shipped mood style-transfer model.
 from __future__ import annotations
 
 import json
-import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -25,12 +24,11 @@ from app.sim.scenario import Scenario, load_scenario
 from dialogue.chat.config import DEFAULT_CHAT_MODEL
 from dialogue.chat.model import ChitChatModel
 from dialogue.manager import DialogueManager
-from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot, load_weather
 from dialogue.qa.clock import scenario_clock
 from dialogue.qa.home_map import plan_from_scenario
 from dialogue.qa.music import Songs
-from dialogue.qa.news import SAMPLE_FEED
+from dialogue.qa.news import SAMPLE_FEED, check_feed
 from dialogue.qa.places import lookup
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
@@ -74,12 +72,13 @@ def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir
 
 
 def chat_session(scenario_path: Path | None, default_scenario: Path, weather_path: Path | None,
-                 feed: Path | None, out: Path | None
+                 feed: Path | None, out: Path
                  ) -> tuple[DialogueManager, dict[str, float] | None, Path | None]:
     """The manager of a ``companion chat`` session, with the scenario's drives and personality
     (Nones without ``scenario_path``). The household map and the camera come from the scenario,
     or from ``default_scenario`` when none is given; maps, photos and the reply log go to
-    ``out`` (default: a new temporary folder)."""
+    ``out``. Every file is checked before a model is loaded: one that cannot be read raises a
+    :class:`~app.core.errors.UserError` naming it."""
     drives, personality, household, scenario_weather = None, None, None, None
     if scenario_path is not None:
         scenario = load_scenario(scenario_path)
@@ -88,15 +87,14 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
         household = plan_from_scenario(scenario)
     elif default_scenario.is_file():
         household = plan_from_scenario(load_scenario(default_scenario))
-    if feed is not None and not feed.is_file():
-        raise DialogueError(f"{feed}: news feed not found")
+    if feed is not None:
+        check_feed(feed)
     if weather_path:
         weather = load_weather(weather_path)
     elif scenario_weather is not None:
         weather = load_weather(scenario_weather.model_dump(exclude_none=True))
     else:
         weather = load_weather()
-    out = out or Path(tempfile.mkdtemp(prefix="companion-chat-"))
     qa = QABot(weather=weather, feed=feed or SAMPLE_FEED, household=household, out_dir=out,
                take_photo=scenario_camera(scenario_path or default_scenario, out))
     manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),

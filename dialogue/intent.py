@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from app.core.files import read_text
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import DialogueError
 from dialogue.qa.knowledge import KnowledgeBase
@@ -67,11 +68,7 @@ class Intent:
 def load_utterances(path: str | Path) -> list[tuple[str, str]]:
     """``(label, utterance)`` pairs from a ``label<TAB>utterance`` file (``#`` comments)."""
     pairs = []
-    try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise DialogueError(f"{path}: cannot read utterances ({exc.strerror})") from None
-    for n, line in enumerate(lines, 1):
+    for n, line in enumerate(read_text(path).splitlines(), 1):
         if not line.strip() or line.startswith("#"):
             continue
         label, sep, text = line.partition("\t")

@@ -110,7 +110,7 @@ def test_eval_dialogue_json(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_user_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["chat", "--feed", str(tmp_path / "none.xml")]) == 2
-    assert "news feed not found" in capsys.readouterr().err
+    assert "none.xml: file not found" in capsys.readouterr().err
     bad = tmp_path / "weather.yaml"
     bad.write_text("cities: {Rome: {today: {temp_c: 3}}}\n")
     assert main(["chat", "--weather", str(bad)]) == 2

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import io
 import re
 from pathlib import Path
 
 import feedparser
 
-from dialogue.qa.base import Answer
+from app.core.files import read_bytes
+from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.text import content_words, normalise, word_set
 
 SAMPLE_FEED = Path(__file__).resolve().parents[1] / "data" / "news_sample.xml"
@@ -42,13 +44,26 @@ def news_topic(text: str) -> list[str]:
     return [w for i, w in enumerate(words[:-1]) if w in topical and words[i + 1] in CUES][-1:]
 
 
+def _parse(data: bytes) -> feedparser.FeedParserDict:
+    # as a stream: feedparser would take bytes that look like a path for a file to open
+    return feedparser.parse(io.BytesIO(data))
+
+
+def check_feed(path: str | Path) -> None:
+    """Refuse a file that cannot be read (a :class:`~app.core.files.FileReadError`) or is not
+    an RSS or Atom feed (a :class:`DialogueError`), naming it."""
+    if not _parse(read_bytes(path)).version:
+        raise DialogueError(f"{path}: not an RSS or Atom feed")
+
+
 def read_feed(path: str | Path) -> tuple[list[dict[str, str]], str | None]:
-    """The feed's entries (title, link, summary, category) and its link; empty when unreadable."""
+    """The feed's entries (title, link, summary, category) and its link; empty when unreadable
+    (the file is read again for every question, so a fetcher may refresh it meanwhile)."""
     try:
-        data = Path(path).read_bytes()
+        data = read_bytes(path)
     except OSError:
         return [], None
-    feed = feedparser.parse(data)
+    feed = _parse(data)
     entries = [{"title": e.get("title", "").strip(), "link": e.get("link", ""),
                 "summary": e.get("summary", ""),
                 "category": " ".join(t.get("term", "") for t in e.get("tags", []))}
