@@ -157,11 +157,12 @@ def test_cli_style_sentences_and_batch_mode(trained, capsys, monkeypatch):
     model = str(trained / "models" / "style.pt")
     args = parser_for("add_commands").parse_args(
         ["style", "--to", "positive", "--model", model, "the food was cold ."])
-    assert args.func(args) == 0
-    assert len(capsys.readouterr().out.splitlines()) == 1
+    status = args.func(args)   # 1 when the tiny model's translation fails a check
+    out, err = capsys.readouterr()
+    assert len(out.splitlines()) == 1 and status == (1 if "printed unchanged" in err else 0)
     monkeypatch.setattr("sys.stdin", io.StringIO("the food was cold .\n\nrude staff .\n"))
     args = parser_for("add_commands").parse_args(["style", "--to", "negative", "--model", model])
-    assert args.func(args) == 0
+    assert args.func(args) in (0, 1)
     assert len(capsys.readouterr().out.splitlines()) == 3
     args = parser_for("add_commands").parse_args(
         ["style", "--to", "negative", "--model", str(trained / "nothing.pt"), "hi"])

@@ -125,11 +125,16 @@ class TrainConfig(StrictModel):
 
 
 class DecodeConfig(StrictModel):
-    """Inference: beam search and the content-preservation confidence check."""
+    """Inference: beam search, the checks before decoding and the content-preservation
+    confidence check. ``max_words`` (twice the training limit ``data.max_words``) and
+    ``min_known_share`` have defaults because the model files written before they existed do
+    not store them."""
 
     beam_size: int = Field(ge=1)
     max_extra_words: int = Field(ge=0)
     disc_weight: float = Field(ge=0)
+    max_words: int = Field(default=30, ge=1, le=1000)
+    min_known_share: float = Field(default=0.5, ge=0, le=1)
     min_content_overlap: float = Field(ge=0, le=1)
     style_ratio: float = Field(ge=1)
     style_min_count: int = Field(ge=1)

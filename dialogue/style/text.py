@@ -10,6 +10,7 @@ STYLES = ("negative", "positive")
 _PUNCT = re.compile(r"([.,!?;:()\"&])")
 _CLITIC = re.compile(r"(\w)(n't|'s|'re|'ve|'m|'ll|'d)\b")
 _NUMBER = re.compile(r"^\d+([.,:]\d+)*$")
+_SENTENCE_END = re.compile(r"(?<=[.!?])\s+")
 
 
 def tokenize(text: str) -> list[str]:
@@ -25,3 +26,8 @@ def detokenize(words: Sequence[str]) -> str:
     text = " ".join(words)
     text = re.sub(r" (n't|'s|'re|'ve|'m|'ll|'d)\b", r"\1", text)
     return re.sub(r" ([.,!?;:)])", r"\1", text).replace("( ", "(")
+
+
+def split_sentences(text: str) -> list[str]:
+    """The sentences of a line of free text: split after ``.``, ``!`` or ``?`` and a space."""
+    return [s for s in _SENTENCE_END.split(text.strip()) if s]

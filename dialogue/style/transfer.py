@@ -6,12 +6,18 @@ detokenised and capitalised like its source. Words outside the vocabulary become
 ``<unk>``; each ``<unk>`` the model writes is replaced by the source's unknown words in
 order (dropped when none is left).
 
+Checks before decoding: a sentence longer than ``decode.max_words`` words, or one with fewer
+than ``decode.min_known_share`` of its words (those with a letter) in the vocabulary (text in
+another language, say), is not decoded at all.
+
 Confidence check (content preservation): the *content words* of a sentence are its words
 with a letter that are neither stop words nor style markers (words one style uses at least
 ``style_ratio`` times as often as the other in training, saved with the model). A
 translation is kept only when it contains at least ``min_content_overlap`` of the source's
-content words (a source without content words always passes); otherwise the original
-sentence is returned unchanged, so the robot never says something off-topic.
+content words (a source without content words always passes).
+
+Whenever a check fails the original sentence is returned unchanged, so the robot never says
+something off-topic, and :meth:`StyleTransfer.translate_detailed` says why.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ from pathlib import Path
 import torch
 
 from app.core.torch_threads import torch_threads
-from dialogue.style.config import DEFAULT_MODEL_DIR, STYLE_FILE
+from dialogue.style.config import DEFAULT_MODEL_DIR, STYLE_FILE, DecodeConfig
 from dialogue.style.decode import transfer_ids
 from dialogue.style.files import STOPWORDS, load_transfer
 from dialogue.style.text import STYLES, detokenize, tokenize
@@ -36,12 +42,20 @@ _HAS_LETTER = re.compile(r"[a-z]")
 
 @dataclass(frozen=True)
 class Translation:
-    """One result: what to say, the raw model output and the confidence check's verdict."""
+    """One result: what to say, the raw model output ("" when the sentence was not decoded),
+    the share of the source's content words in it (0 when not decoded), the share of the
+    source's words the model knows and, when the original is said instead, why."""
 
     text: str
     transferred: str
     content_overlap: float
-    kept_original: bool
+    known_share: float
+    reason: str | None = None
+
+    @property
+    def kept_original(self) -> bool:
+        """Whether a check failed and ``text`` is the source sentence unchanged."""
+        return self.reason is not None
 
 
 def replace_unknown(output: Sequence[str], source: Sequence[str], vocab: Vocab) -> list[str]:
@@ -71,15 +85,14 @@ class StyleTransfer:
     are small, and more threads only add waiting, badly so on a busy machine.
     """
 
-    def __init__(self, model: torch.nn.Module, vocab: Vocab, beam_size: int,
-                 max_extra_words: int, disc_weight: float, min_content_overlap: float,
+    def __init__(self, model: torch.nn.Module, vocab: Vocab, decode: DecodeConfig,
                  style_words: Sequence[str], meta: dict | None = None,
                  threads: int | None = 1) -> None:
-        self.model, self.vocab = model.eval(), vocab
+        self.model, self.vocab, self.decode = model.eval(), vocab, decode
         self.threads = threads
         self.meta = dict(meta or {})
-        self.beam_size, self.max_extra_words = beam_size, max_extra_words
-        self.disc_weight, self.min_content_overlap = disc_weight, min_content_overlap
+        self.beam_size, self.max_extra_words = decode.beam_size, decode.max_extra_words
+        self.disc_weight = decode.disc_weight
         self.style_words = frozenset(style_words)
 
     @classmethod
@@ -87,9 +100,28 @@ class StyleTransfer:
              ) -> StyleTransfer:
         """Load ``style.pt``; a missing or corrupt file raises ``StyleModelError``."""
         model, vocab, decode, blob = load_transfer(Path(path))
-        return cls(model, vocab, beam_size or decode.beam_size, decode.max_extra_words,
-                   decode.disc_weight, decode.min_content_overlap,
-                   [str(w) for w in blob.get("style_words", [])], blob.get("meta"))
+        if beam_size is not None:
+            decode = decode.model_copy(update={"beam_size": beam_size})
+        return cls(model, vocab, decode, [str(w) for w in blob.get("style_words", [])],
+                   blob.get("meta"))
+
+    def known_share(self, words: Sequence[str]) -> float:
+        """Share of the words with a letter that are in the vocabulary (1.0 without any)."""
+        lettered = [w for w in words if _HAS_LETTER.search(w)]
+        return sum(w in self.vocab.stoi for w in lettered) / len(lettered) if lettered else 1.0
+
+    def refusal(self, words: Sequence[str]) -> str | None:
+        """Why a tokenised sentence is not decoded at all, or None when it is."""
+        if not words:
+            return "it has no words"
+        if len(words) > self.decode.max_words:
+            return (f"it has {len(words)} words, more than the model's limit of "
+                    f"{self.decode.max_words}")
+        known = self.known_share(words)
+        if known < self.decode.min_known_share:
+            return (f"only {known:.0%} of its words are known to the model, fewer than "
+                    f"{self.decode.min_known_share:.0%} (is it English?)")
+        return None
 
     def content_words(self, words: Sequence[str]) -> set[str]:
         """Words that carry content: with a letter, not stop words, not style markers."""
@@ -109,25 +141,35 @@ class StyleTransfer:
             raise ValueError(f"to must be one of {STYLES}, got {to!r}")
         target = STYLES.index(to)
         tokens = [tokenize(s) for s in sentences]
-        todo = [i for i, t in enumerate(tokens) if t]
+        results = [Translation(s, "", 0.0, self.known_share(t), self.refusal(t))
+                   for s, t in zip(sentences, tokens, strict=True)]
+        todo = [i for i, r in enumerate(results) if r.reason is None]
         with torch_threads(self.threads):
             outputs = transfer_ids(self.model, [self.vocab.encode(tokens[i]) for i in todo],
                                    [1 - target] * len(todo), self.beam_size,
                                    self.max_extra_words, self.disc_weight)
-        results = [Translation(s, s, 1.0, True) for s in sentences]
         for i, out in zip(todo, outputs, strict=True):
             words = replace_unknown([self.vocab.itos[j] if j != UNK_ID else UNK for j in out],
                                     tokens[i], self.vocab)
             overlap = self.content_overlap(tokens[i], words)
-            keep = not words or overlap < self.min_content_overlap
-            text = " ".join(words)
-            said = sentences[i] if keep else readable(words, sentences[i])
-            results[i] = Translation(said, text, overlap, keep)
+            why = self._lost(words, overlap)
+            said = sentences[i] if why else readable(words, sentences[i])
+            results[i] = Translation(said, " ".join(words), overlap, results[i].known_share,
+                                     why)
         return results
+
+    def _lost(self, words: Sequence[str], overlap: float) -> str | None:
+        """Why a decoded translation fails the confidence check, or None when it passes."""
+        if not words:
+            return "the model wrote nothing"
+        if overlap < self.decode.min_content_overlap:
+            return (f"the translation kept {overlap:.0%} of its content words, fewer than "
+                    f"{self.decode.min_content_overlap:.0%}")
+        return None
 
     def translate(self, sentences: Sequence[str], to: str) -> list[str]:
         """Each sentence said in the ``to`` style ("positive" or "negative").
 
-        A translation that loses the content (module docstring) is replaced by the original.
+        A sentence that fails a check (module docstring) is returned unchanged.
         """
         return [t.text for t in self.translate_detailed(sentences, to)]

@@ -29,11 +29,13 @@ import numpy as np
 import yaml
 
 from app.core.errors import UserError
+from app.core.files import read_text
 from dialogue.chat.config import ChatDataConfig
 from dialogue.chat.text import Pair, tokenize
 from textnets.vocab import UNK
 
 SPLITS = ("train", "valid", "test")
+FILE_LIMIT = 64 << 20   # bytes: a Papaya file (the largest shipped one has 87 kB)
 FUNC = re.compile(r"_func_val_\S*")
 
 
@@ -66,7 +68,7 @@ def read_papaya(folder: Path) -> list[Conversation]:
     convs: list[Conversation] = []
     for path in files:
         conv, question = Conversation(f"papaya/{path.stem}"), None
-        for line in [*path.read_text(encoding="utf-8").splitlines(), "==="]:
+        for line in [*read_text(path, FILE_LIMIT).splitlines(), "==="]:
             line = line.strip()
             if line.startswith("==="):
                 if conv.pairs:

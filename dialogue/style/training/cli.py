@@ -9,9 +9,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from app.core.cli_args import integer
 from dialogue.style.config import CLASSIFIER_FILE, DEFAULT_MODEL_DIR, LM_FILE, STYLE_FILE
+
+if TYPE_CHECKING:
+    from dialogue.style.transfer import Translation
 
 MODEL_FILES = (STYLE_FILE, CLASSIFIER_FILE, LM_FILE)
 
@@ -65,8 +69,16 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     """Register ``style``."""
     p = sub.add_parser("style", help="say sentences in a positive or negative style",
                        description="Translate sentences to the given style, one output line "
-                       "per input sentence. Without SENTENCE arguments, sentences are read one "
-                       "a line from --input or standard input.")
+                       "per input line (each SENTENCE argument is a line). Without SENTENCE "
+                       "arguments, lines are read from --input or standard input (UTF-8, at "
+                       "most 1 MB). A line with several sentences is translated sentence by "
+                       "sentence. A sentence the model cannot translate faithfully (longer "
+                       "than its word limit, too few words it knows, as in text that is not "
+                       "English, or a translation that loses the content) is printed "
+                       "unchanged, and standard error says why.",
+                       epilog="Exit status: 0 when every sentence was translated; 1 when some "
+                       "were printed unchanged; 2 when nothing could be done (empty input, an "
+                       "unreadable --input file or model file).")
     p.add_argument("sentences", nargs="*", metavar="SENTENCE")
     p.add_argument("--to", required=True, choices=["positive", "negative"])
     p.add_argument("--input", type=Path, help="file with one sentence a line ('-': stdin)")
@@ -122,30 +134,79 @@ def run_eval(args: argparse.Namespace) -> int:
 
 
 def run_style(args: argparse.Namespace) -> int:
-    """Handler of ``companion style``: one translation a line on standard output."""
+    """Handler of ``companion style``: one output line per input line on standard output, a
+    notice on standard error for each sentence printed unchanged (exit status 1)."""
+    from app.core.errors import UserError
+    from dialogue.style.text import split_sentences
     from dialogue.style.transfer import StyleTransfer
 
     if args.sentences and args.input is not None:
-        raise SystemExit("companion style: give sentences or --input, not both")
+        raise UserError("give sentences or --input, not both")
+    lines = [split_sentences(line) for line in args.sentences or _read_lines(args.input)]
+    if not any(lines):
+        raise UserError("nothing to transfer: the input is empty")
     transfer = StyleTransfer.load(args.model, beam_size=args.beam)
-    sentences = args.sentences or _read_lines(args.input)
-    for start in range(0, len(sentences), 256):
-        chunk = sentences[start:start + 256]
-        results = transfer.translate_detailed(chunk, args.to)
-        for r in results:
-            print(r.transferred if args.raw else r.text)
+    report = Report(args.raw)
+    for start in range(0, len(lines), 256):
+        chunk = lines[start:start + 256]
+        results = iter(transfer.translate_detailed([s for line in chunk for s in line], args.to))
+        for number, line in enumerate(chunk, start + 1):
+            wheres = [f"line {number}, sentence {i}" for i in range(1, len(line) + 1)]
+            wheres = wheres if len(line) > 1 else [f"line {number}"] * len(line)
+            print(" ".join(report.said(next(results), where) for where in wheres))
         sys.stdout.flush()
-    return 0
+    return report.close()
+
+
+class Report:
+    """What to print for each sentence (with ``raw``, the model's output even when the
+    confidence check rejects it), and on standard error why a sentence is printed unchanged:
+    the first :attr:`SHOWN` one a line, then how many in all."""
+
+    SHOWN = 20
+
+    def __init__(self, raw: bool) -> None:
+        self.raw, self.total, self.unchanged = raw, 0, 0
+
+    def said(self, result: Translation, where: str) -> str:
+        """The text to print for one sentence; ``where`` names it in a notice."""
+        self.total += 1
+        if self.raw and result.transferred:
+            return result.transferred
+        if result.reason is not None:
+            self.unchanged += 1
+            if self.unchanged <= self.SHOWN:
+                print(f"companion style: {where}: printed unchanged: {result.reason}",
+                      file=sys.stderr, flush=True)
+        return result.text
+
+    def close(self) -> int:
+        """Sum up; the exit status: 1 when a sentence was printed unchanged, else 0."""
+        if self.unchanged:
+            print(f"companion style: {self.unchanged} of {self.total} sentences printed "
+                  "unchanged", file=sys.stderr)
+        return 1 if self.unchanged else 0
 
 
 def _read_lines(path: Path | None) -> list[str]:
+    """The lines of the file ``path`` (see :func:`app.core.files.read_text`), or of standard
+    input without one or for '-'."""
     from app.core.errors import UserError
+    from app.core.files import TEXT_LIMIT, read_text
 
-    if path is None or str(path) == "-":
-        text = sys.stdin.read()
-    else:
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise UserError(f"{path}: cannot read ({exc.strerror})") from None
-    return [line.strip() for line in text.splitlines()]
+    if path is not None and str(path) != "-":
+        return read_text(path).splitlines()
+    if sys.stdin.isatty():
+        print("companion style: reading lines from standard input; end with Ctrl-D",
+              file=sys.stderr)
+    try:
+        text = sys.stdin.read(TEXT_LIMIT + 1)
+        text.encode("utf-8")  # standard input may keep undecodable bytes as surrogates
+    except (UnicodeDecodeError, UnicodeEncodeError):
+        raise UserError("standard input: not UTF-8 text") from None
+    if "\x00" in text:
+        raise UserError("standard input: binary data (or UTF-16 text), expected UTF-8 text")
+    if len(text) > TEXT_LIMIT:
+        raise UserError(f"standard input: more than the {TEXT_LIMIT:,}-character limit; "
+                        "split it into smaller parts")
+    return text.splitlines()

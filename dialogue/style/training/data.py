@@ -18,8 +18,11 @@ from pathlib import Path
 import numpy as np
 
 from app.core.errors import UserError
+from app.core.files import FileReadError, read_text
 from dialogue.style.config import DataConfig
 from textnets.vocab import Vocab
+
+FILE_LIMIT = 256 << 20   # bytes: the largest Yelp file is 3 MB
 
 
 class StyleDataError(UserError):
@@ -39,11 +42,12 @@ class Split:
 
 
 def read_lines(path: Path) -> list[str]:
-    """Non-empty stripped lines of a UTF-8 file."""
+    """Non-empty stripped lines of a UTF-8 file of at most :data:`FILE_LIMIT` bytes; one that
+    cannot be read raises :class:`StyleDataError` naming it."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise StyleDataError(f"{path}: cannot read the Yelp data ({exc.strerror})") from None
+        text = read_text(path, FILE_LIMIT)
+    except FileReadError as exc:
+        raise StyleDataError(f"{exc} (a file of the Yelp data)") from None
     return [line.strip() for line in text.splitlines() if line.strip()]
 
 
