@@ -17,6 +17,7 @@ not part of it: they come from the ``decode`` section of the config.
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +45,20 @@ DEFAULT_VQG_MODEL = REPO_ROOT / "assets" / "models" / "vqg.pt"
 
 class VqgModelError(UserError):
     """A VQG model file is missing, unreadable or inconsistent."""
+
+
+@dataclass(frozen=True)
+class Screening:
+    """The questions that passed the checks, best first, and what became of the others:
+    ``decoded`` latent codes, of which ``empty`` gave no words and ``unsure`` failed the
+    confidence check; the rest were ``distinct`` different questions, which the fact check
+    (when there is one) then screened."""
+
+    questions: list[str]
+    decoded: int
+    empty: int
+    unsure: int
+    distinct: int
 
 
 def save_vqg(path: Path, model: VqgModel, vocab: Vocab, cfg: VqgConfig,
@@ -112,28 +127,37 @@ class VqgQuestionGenerator:
         return [(" ".join(self.vocab.decode(row)), float(lp))
                 for row, lp in zip(ids.tolist(), logp, strict=True)]
 
-    def questions(self, image: torch.Tensor, k: int) -> list[str]:
+    def screen(self, image: torch.Tensor, k: int) -> Screening:
         """The distinct questions decoded from ``k`` latent codes, best first (most often
-        decoded, then most probable). The confidence check drops questions whose mean
-        log-probability per word is below ``decode.min_logprob``, the fact check (when a
-        verifier is loaded) those whose meaning is a fact it rates below
-        ``decode.min_fact_prob`` in this image."""
-        drawn = [(q, lp) for q, lp in self.sample(image, k)
-                 if q and lp >= self.decode.min_logprob]
+        decoded, then most probable), with the count each check dropped. The confidence check
+        drops questions whose mean log-probability per word is below ``decode.min_logprob``,
+        the fact check (when a verifier is loaded) those whose meaning is a fact it rates
+        below ``decode.min_fact_prob`` in this image."""
+        sampled = self.sample(image, k)
+        drawn = [(q, lp) for q, lp in sampled if q and lp >= self.decode.min_logprob]
+        empty = sum(not q for q, _ in sampled)
         counts = Counter(q for q, _ in drawn)
         best: dict[str, float] = {}
         for q, lp in drawn:
             best[q] = max(lp, best.get(q, -np.inf))
         ranked = sorted(counts, key=lambda q: (-counts[q], -best[q]))
-        if self.verifier is None:
-            return ranked
-        with torch_threads(1):
-            probs = self.verifier.plausibility(image, ranked)
-        return [q for q, p in zip(ranked, probs, strict=True)
-                if p is None or p >= self.decode.min_fact_prob]
+        kept = ranked
+        if self.verifier is not None:
+            with torch_threads(1):
+                probs = self.verifier.plausibility(image, ranked)
+            kept = [q for q, p in zip(ranked, probs, strict=True)
+                    if p is None or p >= self.decode.min_fact_prob]
+        return Screening(kept, k, empty, len(sampled) - empty - len(drawn), len(ranked))
+
+    def questions(self, image: torch.Tensor, k: int) -> list[str]:
+        """The questions of :meth:`screen`, best first."""
+        return self.screen(image, k).questions
+
+    def ask_screened(self, frame: np.ndarray, n: int) -> Screening:
+        """:meth:`screen` of the RGB frame (``n * decode.oversample`` codes), cut to ``n``."""
+        screening = self.screen(self.image_input(frame), n * self.decode.oversample)
+        return replace(screening, questions=screening.questions[:n])
 
     def ask(self, frame: np.ndarray, n: int) -> list[str]:
         """Up to ``n`` distinct questions about the RGB frame, best first."""
-        if n <= 0:
-            return []
-        return self.questions(self.image_input(frame), n * self.decode.oversample)[:n]
+        return self.ask_screened(frame, n).questions if n > 0 else []

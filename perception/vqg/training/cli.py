@@ -8,12 +8,23 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from app.core.cli_args import integer, seed
+from app.core.errors import UserError
+from app.core.files import read_bytes
 from app.core.paths import MODELS_DIR
 
+if TYPE_CHECKING:
+    import numpy as np
+
+    from perception.vqg.config import DecodeConfig
+    from perception.vqg.generator import Screening
+
 DEFAULT_MODEL = MODELS_DIR / "vqg.pt"
+IMAGE_LIMIT = 50 << 20   # bytes: an image for `companion ask`
 
 
 def add_data(sub: argparse._SubParsersAction) -> None:
@@ -89,8 +100,15 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
 def add_commands(sub: argparse._SubParsersAction) -> None:
     """Register ``ask``."""
     p = sub.add_parser("ask", help="ask questions about an image (visual question generation)",
-                       description="Print up to -n distinct questions about an RGB image, "
-                       "best first, one a line.")
+                       description="Print up to -n distinct questions about an image (PNG, "
+                       "JPEG or another format OpenCV reads, at most 50 MB), best first, one a "
+                       "line. Questions the model is unsure of (decode.min_logprob) or that "
+                       "the fact check finds unlikely in the image (decode.min_fact_prob) are "
+                       "dropped.",
+                       epilog="Exit status: 0 when at least one question is printed; 1 when "
+                       "every question was dropped (standard error then says how many were "
+                       "generated and which check dropped them); 2 for an unreadable image, "
+                       "model or config file.")
     p.add_argument("image", type=Path, metavar="IMAGE.png")
     p.add_argument("-n", type=integer(1, 1000), default=10, help="how many questions (default 10)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to use")
@@ -183,18 +201,48 @@ def run_eval(args: argparse.Namespace) -> int:
 
 
 def run_ask(args: argparse.Namespace) -> int:
-    """Handler of ``companion ask``."""
-    import cv2
-
-    from app.core.errors import UserError
+    """Handler of ``companion ask``: the questions on standard output; when none passes the
+    checks, why on standard error and exit status 1."""
     from perception.vqg.config import load_vqg_config
     from perception.vqg.generator import VqgQuestionGenerator
 
-    bgr = cv2.imread(str(args.image), cv2.IMREAD_COLOR)
-    if bgr is None:
-        raise UserError(f"{args.image}: cannot read the image")
-    gen = VqgQuestionGenerator.load(args.model, seed=args.seed,
-                                    decode=load_vqg_config(args.config).decode)
-    for q in gen.ask(bgr[..., ::-1].copy(), args.n):
+    rgb = read_image(args.image)
+    decode = load_vqg_config(args.config).decode
+    gen = VqgQuestionGenerator.load(args.model, seed=args.seed, decode=decode)
+    screening = gen.ask_screened(rgb, args.n)
+    for q in screening.questions:
         print(q)
-    return 0
+    if screening.questions:
+        return 0
+    print(f"companion ask: {nothing_passed(screening, decode)}", file=sys.stderr)
+    return 1
+
+
+def nothing_passed(s: Screening, decode: DecodeConfig) -> str:
+    """Why no question of ``s`` is left, in one line: how many of those decoded each check
+    dropped."""
+    confident = s.decoded - s.empty - s.unsure
+    dropped = [f"{s.empty} came out empty" if s.empty else "",
+               f"{s.unsure} fell below the confidence threshold (mean log-probability per "
+               f"word {decode.min_logprob})" if s.unsure else "",
+               f"the fact check rejected {confident} ({s.distinct} distinct; plausibility "
+               f"below {decode.min_fact_prob})" if confident else ""]
+    return (f"no question passed the checks: of {s.decoded} decoded, "
+            f"{', '.join(d for d in dropped if d)}; try another --seed or a larger -n")
+
+
+def read_image(path: Path) -> np.ndarray:
+    """The RGB pixels ``(H, W, 3)`` of an image file of at most :data:`IMAGE_LIMIT` bytes,
+    read with :func:`app.core.files.read_bytes`; a file that is no image raises a
+    :class:`~app.core.errors.UserError` naming it."""
+    import cv2
+    import numpy as np
+
+    data = read_bytes(path, IMAGE_LIMIT)
+    try:
+        bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    except cv2.error:
+        bgr = None
+    if bgr is None:
+        raise UserError(f"{path}: not an image OpenCV can decode (PNG, JPEG, BMP, ...)")
+    return np.ascontiguousarray(bgr[..., ::-1])
