@@ -6,12 +6,17 @@ need neither the real data nor a shipped model; the real data is checked when pr
 
 import argparse
 import csv
+import os
 import random
+import signal
 from pathlib import Path
 
 import pytest
 import torch
+import yaml
+from test_training_resume import refuses_changes_and_bad_checkpoints
 
+from app.core.checkpoint import read_checkpoint
 from app.core.config_files import ConfigError
 from app.core.errors import UserError
 from dialogue.chat.batch import batches, make_batch
@@ -191,12 +196,24 @@ def test_model_plugs_into_the_dialogue_manager(trained):
     assert reply.route == "chitchat" and reply.text
 
 
+def lengthen(run: Path, epochs: int) -> None:
+    """Change a run's own configuration on purpose: train it for ``epochs`` in all."""
+    path = run / "resolved_config.yaml"
+    stored = yaml.safe_load(path.read_text())
+    stored["train"]["epochs"] = epochs
+    path.write_text(yaml.safe_dump(stored))
+
+
 def test_checkpoint_resume_matches_an_uninterrupted_run(tmp_path, monkeypatch):
     folder = write_corpus(tmp_path / "p", n_convs=20)
     train(tiny_config(tmp_path, folder, epochs=2), tmp_path / "straight", progress=False)
     train(tiny_config(tmp_path, folder, epochs=1), tmp_path / "split", progress=False)
     with pytest.raises(FileExistsError):
         train(tiny_config(tmp_path, folder, epochs=2), tmp_path / "split", progress=False)
+    with pytest.raises(UserError, match=r"train\.epochs: run has 1, the configuration given"):
+        train(tiny_config(tmp_path, folder, epochs=2), tmp_path / "split", resume=True,
+              progress=False)
+    lengthen(tmp_path / "split", 2)
     train(tiny_config(tmp_path, folder, epochs=2), tmp_path / "split", resume=True,
           progress=False)
     a = torch.load(tmp_path / "straight" / "checkpoint.pt", weights_only=True)["net"]
@@ -211,7 +228,7 @@ def test_checkpoint_resume_matches_an_uninterrupted_run(tmp_path, monkeypatch):
     def interrupting_step(self, *args, **kwargs):  # Ctrl-C in the middle of epoch 2
         calls["n"] += 1
         if calls["n"] == 5:
-            raise KeyboardInterrupt
+            os.kill(os.getpid(), signal.SIGINT)
         return real_step(self, *args, **kwargs)
 
     cfg = tiny_config(tmp_path, folder, epochs=2)
@@ -219,11 +236,29 @@ def test_checkpoint_resume_matches_an_uninterrupted_run(tmp_path, monkeypatch):
         m.setattr(torch.optim.Adam, "step", interrupting_step)
         with pytest.raises(KeyboardInterrupt):
             train(cfg, tmp_path / "ctrl-c", progress=False)
+    assert read_checkpoint(tmp_path / "ctrl-c" / "checkpoint.pt")["counters"][1] == 5
     train(cfg, tmp_path / "ctrl-c", resume=True, progress=False)
     c = torch.load(tmp_path / "ctrl-c" / "checkpoint.pt", weights_only=True)
     straight = torch.load(tmp_path / "straight" / "checkpoint.pt", weights_only=True)
     assert c["counters"] == straight["counters"] and c["counters"][1] > 4
     assert all(torch.allclose(a[k], c["net"][k], atol=1e-6) for k in a)
+    for log in ("train_log.csv", "eval_log.csv"):  # no row twice, the same rows
+        assert logged(tmp_path / "ctrl-c" / log) == logged(tmp_path / "straight" / log)
+
+
+def logged(path: Path) -> list[dict[str, str]]:
+    """A log's rows without their wall times."""
+    return [{k: v for k, v in r.items() if k != "wall_s"}
+            for r in csv.DictReader(path.open())]
+
+
+def test_a_resume_keeps_the_run_config_and_refuses_an_unreadable_checkpoint(tmp_path, trained,
+                                                                           capsys):
+    other = tmp_path / "other.yaml"
+    other.write_text(TINY.format(dir=trained[0].data.papaya_dir, epochs=2))
+    refuses_changes_and_bad_checkpoints(
+        ["train", "chat", "--no-progress"], trained[1], tmp_path / "run",
+        ["--config", str(other)], "train.epochs: run has 6, --config gives 2", capsys)
 
 
 def test_missing_corrupt_and_mismatched_model_files(tmp_path, trained):

@@ -4,10 +4,13 @@ that resumes, and the shipped model against its bars on freshly rendered people.
 from __future__ import annotations
 
 import math
+import os
+import signal
 
 import numpy as np
 import pytest
 import torch
+from test_training_resume import refuses_changes_and_bad_checkpoints
 
 from app.cli import main
 from perception.detector.training.data import SceneSpec
@@ -101,6 +104,40 @@ def test_a_small_training_writes_a_loadable_model_and_resumes(tiny):
     assert main(args) == 2
     assert main([*args, "--resume"]) == 0
     assert len((root / "run" / "train_log.csv").read_text().splitlines()) == 3
+
+
+def test_sigterm_stops_after_the_epoch_and_the_resume_matches_a_straight_run(
+        tiny, tmp_path, monkeypatch, capsys):
+    root, config = tiny
+    real, calls = FacingEstimator.save, iter(range(1, 100))
+
+    def save(self, path):  # SIGTERM while the first epoch's model is exported
+        if next(calls) == 1:
+            os.kill(os.getpid(), signal.SIGTERM)
+        return real(self, path)
+
+    args = ["train", "facing", "--data", str(root / "data"), "--out", str(tmp_path)]
+    with monkeypatch.context() as m:
+        m.setattr(FacingEstimator, "save", save)
+        assert main([*args, "--config", str(config)]) == 143
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "interrupted (SIGTERM), its checkpoint is kept" in line and line.endswith("--resume")
+    assert len((tmp_path / "train_log.csv").read_text().splitlines()) == 2  # epoch 1 done
+    assert main([*args, "--resume"]) == 0  # the run's own config
+    cut, straight = ([r.rsplit(",", 1)[0] for r in (d / "train_log.csv").read_text().split()]
+                     for d in (tmp_path, root / "run"))
+    assert cut == straight  # every column but the wall time
+
+
+def test_a_resume_keeps_the_run_config_and_refuses_an_unreadable_checkpoint(tiny, tmp_path,
+                                                                           capsys):
+    root, _ = tiny
+    other = tmp_path / "other.yaml"
+    other.write_text("data: {splits: {train: 40, val: 8, test: 8}}\n"
+                     "train: {epochs: 3, batch: 32, threads: 1}\n")
+    refuses_changes_and_bad_checkpoints(
+        ["train", "facing", "--data", str(root / "data")], root / "run", tmp_path / "run",
+        ["--config", str(other)], "train.epochs: run has 2, --config gives 3", capsys)
 
 
 def test_the_data_set_is_seeded(tiny, tmp_path):

@@ -127,6 +127,11 @@ def test_training_refuses_to_overwrite_and_resumes(h, cfg, tmp_path):
         train(h.personality, tiny, tmp_path, progress=False)
     longer = tiny.model_copy(update={
         "train": tiny.train.model_copy(update={"total_transitions": 1200})})
+    with pytest.raises(PolicyFileError, match="total_transitions: run has 600, the config"):
+        train(h.personality, longer, tmp_path, resume=True, progress=False)
+    stored = tmp_path / "resolved_config.yaml"  # a run changed on purpose: its own file
+    stored.write_text(stored.read_text().replace("total_transitions: 600",
+                                                 "total_transitions: 1200"))
     summary = train(h.personality, longer, tmp_path, resume=True, progress=False)
     assert summary["transitions"] >= 1200
     rows = (tmp_path / "train_log.csv").read_text().splitlines()

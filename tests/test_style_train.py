@@ -5,13 +5,18 @@ import csv
 import io
 import itertools
 import json
+import os
+import signal
 
 import pytest
 import torch
 from style_helpers import one_thread, tiny_config, write_corpus
+from test_training_resume import refuses_changes_and_bad_checkpoints
 from torch import nn
 
+from app.core.checkpoint import read_checkpoint
 from app.core.errors import UserError
+from app.core.signals import Terminated
 from dialogue.style.config import load_style_config
 from dialogue.style.files import StyleModelError
 from dialogue.style.training import cli as style_cli
@@ -95,13 +100,14 @@ def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monk
     real, calls = style_train.transfer_losses, itertools.count()
 
     def interrupt(*a, **k):
-        if len(a) == 4 and next(calls) == 7:  # the 8th adversarial step
-            raise KeyboardInterrupt
+        if len(a) == 4 and next(calls) == 7:  # SIGTERM in the 8th adversarial step
+            os.kill(os.getpid(), signal.SIGTERM)
         return real(*a, **k)
 
     monkeypatch.setattr(style_train, "transfer_losses", interrupt)
-    with pytest.raises(KeyboardInterrupt):
+    with pytest.raises(Terminated):
         style_train.train(cfg, tmp_path / "cut", progress=False)
+    assert read_checkpoint(tmp_path / "cut" / "checkpoint.pt")["step"] == 8  # the 8th finished
     monkeypatch.setattr(style_train, "transfer_losses", real)
     style_train.train(cfg, tmp_path / "cut", resume=True, progress=False)
     a = torch.load(tmp_path / "whole" / "style.pt", weights_only=True)["state_dict"]
@@ -109,6 +115,17 @@ def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monk
     assert all(torch.equal(a[k], b[k]) for k in a)
     assert [r["step"] for r in read_log(tmp_path / "cut" / "log_adversarial.csv")] == ["10", "12"]
     assert [r["step"] for r in read_log(tmp_path / "cut" / "valid_log.csv")] == ["0", "10", "12"]
+    cut, whole = (read_log(tmp_path / run / "valid_log.csv") for run in ("cut", "whole"))
+    assert [r | {"wall_s": ""} for r in cut] == [r | {"wall_s": ""} for r in whole]
+
+
+def test_a_resume_keeps_the_run_config_and_refuses_an_unreadable_checkpoint(trained, tmp_path,
+                                                                           capsys):
+    refuses_changes_and_bad_checkpoints(
+        ["train", "style", "--no-progress"], trained / "out", tmp_path,
+        ["--no-style-autoencoder"],
+        "model.style_autoencoder: run has True, --no-style-autoencoder gives False", capsys,
+        (trained / "out" / "checkpoint.pt").read_bytes()[:999])
 
 
 # --- loading, translating, the command line ----------------------------------------------

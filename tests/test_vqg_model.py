@@ -9,12 +9,16 @@ import argparse
 import csv
 import itertools
 import json
+import os
+import signal
 
 import cv2
 import numpy as np
 import pytest
 import torch
+from test_training_resume import refuses_changes_and_bad_checkpoints
 
+from app.core.checkpoint import read_checkpoint
 from app.core.errors import UserError
 from perception.vqg.config import load_vqg_config
 from perception.vqg.generator import VqgModelError, VqgQuestionGenerator
@@ -39,7 +43,7 @@ train: {{image_batch: 8, image_steps: 20, image_lr: 0.01, batch_size: 16, vae_st
          adversarial_steps: {adv}, lr: 0.01, adv_lr: 0.003, disc_lr: 0.003,
          kl_warmup_steps: 20, generator_steps_per_disc: 2, log_every: 10,
          checkpoint_every: 10, eval_every: 20, select_images: 3, select_samples: 8}}
-decode: {{max_words: 8, min_logprob: -.inf, fact_check: false}}
+decode: {{max_words: 8, min_logprob: -1.0e9, fact_check: false}}  # no confidence check
 eval: {{latency_runs: 2}}
 """
 
@@ -240,19 +244,27 @@ def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monk
     real, calls = vqg_train.vae_losses, itertools.count()
 
     def interrupt(*a, **k):
-        if next(calls) == 12:  # the 13th VAE step
-            raise KeyboardInterrupt
+        if next(calls) == 12:  # SIGINT in the 13th VAE step
+            os.kill(os.getpid(), signal.SIGINT)
         return real(*a, **k)
 
     monkeypatch.setattr(vqg_train, "vae_losses", interrupt)
     with pytest.raises(KeyboardInterrupt):
         vqg_train.train(cfg, tmp_path / "cut", progress=False)
+    assert read_checkpoint(tmp_path / "cut" / "checkpoint.pt")["step"] == 13  # it finished
     monkeypatch.setattr(vqg_train, "vae_losses", real)
     vqg_train.train(cfg, tmp_path / "cut", resume=True, progress=False)
     a = torch.load(tmp_path / "whole" / "vqg.pt", weights_only=True)["state_dict"]
     b = torch.load(tmp_path / "cut" / "vqg.pt", weights_only=True)["state_dict"]
     assert all(torch.equal(a[k], b[k]) for k in a)
     assert [r["step"] for r in read_log(tmp_path / "cut" / "log_vae.csv")] == ["10", "15"]
+
+
+def test_a_resume_keeps_the_run_config_and_refuses_an_unreadable_checkpoint(trained, tmp_path,
+                                                                           capsys):
+    refuses_changes_and_bad_checkpoints(
+        ["train", "vqg", "--no-progress"], trained / "out", tmp_path, ["--ablation", "gaussian"],
+        "model.latent: run has gumbel, --ablation gives gaussian", capsys, b"")
 
 
 def test_shipped_format_asks_distinct_questions(trained, data_dir):

@@ -1,26 +1,29 @@
 """Atomic file writes (a crash mid-write never leaves a half-written checkpoint behind), safe
 model-file reading, and :class:`TrainingFolder`, the one checkpoint/resume helper of the
-project's own trainers (policy, chit-chat, and through :mod:`textnets.loop` style transfer and
-VQG; ultralytics keeps its own for the detector)."""
+project's own trainers (policy, chit-chat, facing, and through :mod:`textnets.loop` style
+transfer and VQG; ultralytics keeps its own for the detector)."""
 
 from __future__ import annotations
 
 import atexit
 import contextlib
 import csv
+import io
 import os
 import shutil
 import tempfile
 import time
+import zipfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import IO, Any, BinaryIO
+from typing import IO, Any, BinaryIO, NoReturn
 
 import numpy as np
 import torch
-import yaml
+from pydantic import BaseModel
 
 from app.core.errors import UserError
+from app.core.run_config import CHECKPOINT_FILE, refuse_changes, stored_config, write_config
 
 
 def atomic_write(path: str | Path, write: Callable[[BinaryIO], Any]) -> None:
@@ -71,7 +74,8 @@ def claim_run_folder(out_dir: Path, checkpoint: Path, resume: bool) -> None:
     ``checkpoint`` unless resuming, and refuse a folder that another running process is
     training into: its ``.lock`` file holds that process id (a crashed run's stale lock is
     taken over), so two runs never interleave their logs and checkpoints. The lock is
-    removed when this process exits."""
+    removed when this process exits. Temporary files that a killed writer left behind
+    (:func:`atomic_write`'s ``.*.tmp``) are removed."""
     out_dir.mkdir(parents=True, exist_ok=True)
     if checkpoint.exists() and not resume:
         raise FileExistsError(f"{checkpoint} exists: pass --resume to continue it, "
@@ -86,6 +90,8 @@ def claim_run_folder(out_dir: Path, checkpoint: Path, resume: bool) -> None:
                         f"(stop it, or delete {lock} if it is not a training)")
     atomic_write_bytes(lock, str(os.getpid()).encode())
     atexit.register(_release, lock, os.getpid())
+    for tmp in out_dir.glob(".*.tmp"):  # left by a writer killed mid-write (SIGKILL)
+        tmp.unlink(missing_ok=True)
 
 
 def _release(lock: Path, pid: int) -> None:
@@ -93,6 +99,18 @@ def _release(lock: Path, pid: int) -> None:
     with contextlib.suppress(OSError, ValueError):
         if int(lock.read_text()) == pid == os.getpid():
             lock.unlink()
+
+
+def _unreadable(path: Path, exc: Exception) -> str:
+    """Why ``torch.load`` failed on ``path``, in a few words on one line."""
+    if not path.is_file():
+        return "not a file"
+    if path.stat().st_size == 0:
+        return "the file is empty"
+    if not zipfile.is_zipfile(path):
+        return "cut short, or not written by torch.save"
+    first = str(exc).strip().split("\n")[0].split(". ")[0][:100]
+    return f"{type(exc).__name__}: {first}"
 
 
 def read_weights(path: str | Path, error: type[UserError], missing_hint: str) -> Any:
@@ -104,7 +122,7 @@ def read_weights(path: str | Path, error: type[UserError], missing_hint: str) ->
     try:
         return torch.load(path, map_location="cpu", weights_only=True)
     except Exception as exc:
-        raise error(f"{path}: not a readable model file ({exc})") from None
+        raise error(f"{path}: not a readable model file ({_unreadable(path, exc)})") from None
 
 
 def fp16_state(module: torch.nn.Module) -> dict[str, torch.Tensor]:
@@ -145,14 +163,32 @@ def _unpack(obj: Any) -> Any:
     return obj
 
 
-def read_checkpoint(path: Path, error: type[UserError] = UserError) -> dict[str, Any]:
+class Checkpoint(dict):
+    """A loaded checkpoint; an entry it lacks raises the training's error naming the file
+    (one written by another training or an older version)."""
+
+    def __init__(self, state: dict[str, Any], path: Path, error: type[UserError]) -> None:
+        super().__init__(state)
+        self.path, self.error = path, error
+
+    def __missing__(self, key: str) -> NoReturn:
+        raise self.error(f"{self.path}: holds no {key!r} (written by another training or an "
+                         "older version); train into a new --out folder")
+
+
+def read_checkpoint(path: Path, error: type[UserError] = UserError) -> Checkpoint:
     """A training checkpoint written by :meth:`TrainingFolder.save`, loaded with
-    ``weights_only=True``; ``error`` names the file when it cannot be read."""
+    ``weights_only=True``; ``error`` names the file, in one line, when it cannot be read."""
     try:
-        return _unpack(torch.load(path, map_location="cpu", weights_only=True))
+        state = _unpack(torch.load(path, map_location="cpu", weights_only=True))
     except Exception as exc:
-        raise error(f"{path}: not a readable checkpoint ({exc}); train into a new --out "
-                    "folder") from None
+        why = _unreadable(path, exc)
+    else:
+        if isinstance(state, dict):
+            return Checkpoint(state, path, error)
+        why = f"it holds a {type(state).__name__}"
+    raise error(f"{path}: not a readable checkpoint ({why}); delete it to start the run "
+                "over, or train into a new --out folder")
 
 
 class TrainingFolder:
@@ -161,16 +197,17 @@ class TrainingFolder:
     The folder is claimed (:func:`claim_run_folder`); an existing checkpoint is loaded with
     ``weights_only=True`` (:attr:`state`, None on a fresh run) and refused with ``error`` when
     unreadable; :meth:`save` writes it atomically with the training's wall time so far, which
-    :meth:`wall` carries across resumes. On a fresh run :meth:`write_config` stores the
-    resolved configuration and :meth:`open_log` starts each CSV log with its header; on a
-    resumed one the log keeps the rows its ``keep`` test accepts and new rows are appended.
+    :meth:`wall` carries across resumes. :meth:`use_config` stores the configuration of a
+    fresh run and holds a resumed one to it (:mod:`app.core.run_config`); :meth:`restore`
+    loads state dicts from the checkpoint. :meth:`open_log` starts each CSV log with its
+    header on a fresh run; on a resumed one the log keeps the rows up to the checkpoint.
     """
 
     def __init__(self, out_dir: Path, resume: bool, error: type[UserError] = UserError) -> None:
-        self.out_dir = out_dir
-        self.ckpt_path = out_dir / "checkpoint.pt"
+        self.out_dir, self.resume, self.error = out_dir, resume, error
+        self.ckpt_path = out_dir / CHECKPOINT_FILE
         claim_run_folder(out_dir, self.ckpt_path, resume)
-        self.state: dict[str, Any] | None = None
+        self.state: Checkpoint | None = None
         if self.ckpt_path.exists():
             self.state = read_checkpoint(self.ckpt_path, error)
         self._wall_offset = float(self.state["wall_s"]) if self.state else 0.0
@@ -184,22 +221,50 @@ class TrainingFolder:
         """Write the checkpoint atomically (``state`` plus ``wall_s``)."""
         atomic_torch_save(_pack({**state, "wall_s": self.wall()}), self.ckpt_path)
 
-    def write_config(self, config: dict[str, Any]) -> None:
-        """Save the run's resolved configuration as ``resolved_config.yaml``."""
-        (self.out_dir / "resolved_config.yaml").write_text(
-            yaml.safe_dump(config, sort_keys=False))
+    def use_config(self, config: BaseModel) -> None:
+        """Train with ``config``: a fresh run stores it as ``resolved_config.yaml``; a resumed
+        run refuses it where it differs from the stored one."""
+        stored = (stored_config(type(config), self.out_dir, self.error) if self.resume
+                  else None)
+        if stored is None:
+            write_config(self.out_dir, config)
+        else:
+            refuse_changes(self.out_dir, stored, config, "the configuration given has",
+                           self.error)
+
+    def restore(self, **targets: Any) -> None:
+        """Load each target's ``load_state_dict`` from the checkpoint entry of its name, or
+        raise the folder's error saying that this checkpoint cannot be resumed."""
+        assert self.state is not None
+        for key, target in targets.items():
+            try:
+                target.load_state_dict(self.state[key])
+            except (KeyError, RuntimeError, ValueError, TypeError) as exc:
+                why = str(exc).strip().split("\n")[0]
+                raise self.error(
+                    f"{self.ckpt_path}: cannot resume from this checkpoint, written for another "
+                    f"configuration or by an older version ({key}: {type(exc).__name__}: "
+                    f"{why}); train into a new --out folder") from None
 
     def open_log(self, name: str, header: list[str],
-                 keep: Callable[[list[str]], bool] | None = None) -> IO[str]:
+                 keep: Callable[[list[str]], bool]) -> IO[str]:
         """The CSV log ``name`` opened for appending rows. A fresh run (no checkpoint) starts
-        it with ``header``; a resumed one keeps the earlier rows that ``keep`` accepts (all
-        when None) and drops the rest."""
+        it with ``header``; a resumed one keeps the earlier rows that ``keep`` accepts (those
+        up to the checkpoint) and drops the rest, and any row cut short or unparsable."""
         path = self.out_dir / name
         rows: list[list[str]] = []
         if self.state is not None and path.exists():
             with path.open(newline="") as fh:
-                rows = [r for r in list(csv.reader(fh))[1:] if r and (keep is None or keep(r))]
-        fh = path.open("w", newline="")
-        csv.writer(fh).writerows([header, *rows])
-        fh.flush()
-        return fh
+                rows = [r for r in list(csv.reader(fh))[1:] if _kept(r, len(header), keep)]
+        text = io.StringIO()
+        csv.writer(text).writerows([header, *rows])
+        atomic_write_bytes(path, text.getvalue().encode())  # a kill now loses no kept row
+        return path.open("a", newline="")
+
+
+def _kept(row: list[str], width: int, keep: Callable[[list[str]], bool]) -> bool:
+    """Whether a resumed log keeps ``row``: whole (``width`` fields), parsable, and ``keep``."""
+    try:
+        return len(row) == width and keep(row)
+    except ValueError:
+        return False

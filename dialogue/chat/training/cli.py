@@ -11,6 +11,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from app.core.interrupts import training_command
 from dialogue.chat.config import DEFAULT_CHAT_MODEL
 
 PERPLEXITY_RATIO_BAR = 3.0
@@ -29,7 +30,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "validation perplexity) into --out.")
     p.add_argument("--config", type=Path, help="chat YAML overriding app/defaults/chat.yaml")
     p.add_argument("--out", type=Path, default=Path("runs/train-chat"), help="run folder")
-    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
+                   "with the run's own resolved_config.yaml")
     p.add_argument("--export", type=Path,
                    help="also copy the best model here (e.g. assets/models/chat.pt)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -44,12 +46,14 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_eval)
 
 
+@training_command("chat")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train chat``."""
-    from dialogue.chat.config import load_chat_config
+    from app.core.run_config import config_for
+    from dialogue.chat.config import ChatConfig, load_chat_config
     from dialogue.chat.training.train import MODEL_FILE, train
 
-    cfg = load_chat_config(args.config)
+    cfg = config_for(args, ChatConfig, lambda: load_chat_config(args.config), "config")
     summary = train(cfg, args.out, resume=args.resume,
                     progress=not getattr(args, "no_progress", False))
     if args.export:

@@ -12,7 +12,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from app.core.cli_args import integer
-from dialogue.style.config import CLASSIFIER_FILE, DEFAULT_MODEL_DIR, LM_FILE, STYLE_FILE
+from app.core.interrupts import training_command
+from dialogue.style.config import (
+    CLASSIFIER_FILE,
+    DEFAULT_MODEL_DIR,
+    LM_FILE,
+    STYLE_FILE,
+    StyleConfig,
+)
 
 if TYPE_CHECKING:
     from dialogue.style.transfer import Translation
@@ -29,7 +36,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "files style.pt, classifier.pt and lm.pt into --out.")
     p.add_argument("--config", type=Path, help="style YAML overriding app/defaults/style.yaml")
     p.add_argument("--out", type=Path, default=Path("runs/train-style"), help="run folder")
-    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
+                   "with the run's own resolved_config.yaml")
     p.add_argument("--data", type=Path, help="folder with the Yelp sentiment.* files")
     p.add_argument("--no-style-autoencoder", action="store_true",
                    help="ablation: a plain style embedding instead of the auto-encoder E_y")
@@ -90,18 +98,14 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_style)
 
 
+@training_command("style")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train style``."""
-    from dialogue.style.config import load_style_config
+    from app.core.run_config import config_for
     from dialogue.style.training.train import train
 
-    cfg = load_style_config(args.config)
-    if args.data is not None:
-        cfg = cfg.model_copy(update={"data": cfg.data.model_copy(
-            update={"dir": args.data.resolve()})})
-    if args.no_style_autoencoder:
-        cfg = cfg.model_copy(update={"model": cfg.model.model_copy(
-            update={"style_autoencoder": False})})
+    cfg = config_for(args, StyleConfig, lambda: _train_config(args), "config", "data",
+                     "no_style_autoencoder")
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     judges=args.judges)
     if args.export:
@@ -112,6 +116,20 @@ def run_train(args: argparse.Namespace) -> int:
             atomic_copy(args.out / name, args.export / name)
     print(json.dumps(summary, indent=2))
     return 0
+
+
+def _train_config(args: argparse.Namespace) -> StyleConfig:
+    """The style config that ``--config``, ``--data`` and ``--no-style-autoencoder`` give."""
+    from dialogue.style.config import load_style_config
+
+    cfg = load_style_config(args.config)
+    if args.data is not None:
+        cfg = cfg.model_copy(update={"data": cfg.data.model_copy(
+            update={"dir": args.data.resolve()})})
+    if args.no_style_autoencoder:
+        cfg = cfg.model_copy(update={"model": cfg.model.model_copy(
+            update={"style_autoencoder": False})})
+    return cfg
 
 
 def run_eval(args: argparse.Namespace) -> int:

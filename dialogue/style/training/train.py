@@ -26,6 +26,7 @@ from pathlib import Path
 import torch
 
 from app.core.checkpoint import atomic_copy
+from app.core.interrupts import stop_requests, stops_first
 from dialogue.style.config import CLASSIFIER_FILE, LM_FILE, STYLE_FILE, StyleConfig
 from dialogue.style.decode import transfer_ids
 from dialogue.style.files import StyleModelError, load_classifier, load_lm, save_model
@@ -116,20 +117,20 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
                                cfg.model.mask_min_count)
         nets["style"].set_masked([data.vocab.stoi[w] for w in hidden])
     run = Run(cfg, out_dir, nets, resume, progress)
-    if run.folder.state is None:
-        run.folder.write_config(cfg.model_dump(mode="json"))
+    run.folder.use_config(cfg)
     summary_path = out_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     summary.update({"vocab": v, "sentences": {k: len(s.labels) for k, s in data.splits.items()}})
     if judges is not None and run.state is None and not run.done:
         summary.update(adopt_judges(run, data, nets, judges))
-    for phase in PHASES:
-        if phase in run.done:
-            continue
-        summary.update(PHASE_FNS[phase](run, data, nets) or {})
-        summary.setdefault("wall_s_after", {})[phase] = round(run.wall(), 1)
-        run.finish(phase)
-        summary_path.write_text(json.dumps(summary, indent=2))
+    with stop_requests():  # SIGINT or SIGTERM: a checkpoint before the next step, then stop
+        for phase in PHASES:
+            if phase in run.done:
+                continue
+            summary.update(PHASE_FNS[phase](run, data, nets) or {})
+            summary.setdefault("wall_s_after", {})[phase] = round(run.wall(), 1)
+            run.finish(phase)
+            summary_path.write_text(json.dumps(summary, indent=2))
     return summary
 
 
@@ -155,6 +156,7 @@ def phase_classifier(run: Run, data: Data, nets: dict) -> dict:
                            run.cfg.train.seed + 1)
     opt = torch.optim.Adam(net.parameters(), lr=c.lr)
 
+    @stops_first
     def step(_: int) -> dict[str, float]:
         net.train()
         batch = sampler.next()
@@ -178,6 +180,7 @@ def phase_lm(run: Run, data: Data, nets: dict) -> dict:
                            run.cfg.train.seed + 2)
     opt = torch.optim.Adam(net.parameters(), lr=c.lr)
 
+    @stops_first
     def step(_: int) -> dict[str, float]:
         net.train()
         loss = net.loss(sampler.next())
@@ -203,6 +206,7 @@ def phase_pretrain(run: Run, data: Data, nets: dict) -> None:
                            tc.seed + 3)
     opt = _style_optimizer(run, model.generator_parameters(), tc.pretrain_lr)
 
+    @stops_first
     def step(_: int) -> dict[str, float]:
         model.train()
         batch = sampler.next()
@@ -221,6 +225,7 @@ def phase_reconstruct(run: Run, data: Data, nets: dict) -> None:
                            tc.seed + 4)
     opt = _style_optimizer(run, model.generator_parameters(), tc.pretrain_lr)
 
+    @stops_first
     def step(_: int) -> dict[str, float]:
         model.train()
         batch = sampler.next()
@@ -250,6 +255,7 @@ def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
     run.folder.open_log(valid_log.name, VALID_FIELDS,
                         keep=lambda row: resumed > 0 and int(row[0]) <= resumed).close()
 
+    @stops_first
     def step(i: int) -> dict[str, float]:
         model.train()
         tau = temperature(i, tc.gumbel.tau_start, tc.gumbel.decay, tc.gumbel.every,

@@ -9,6 +9,8 @@ import argparse
 import json
 from pathlib import Path
 
+from app.core.interrupts import training_command
+
 DEFAULT_DATA = Path("runs/facing-data")
 
 
@@ -32,7 +34,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--data", type=Path, default=DEFAULT_DATA, help="data set folder")
     p.add_argument("--out", type=Path, default=Path("runs/train-facing"), help="run folder")
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/facing.yaml")
-    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
+                   "with the run's own resolved_config.yaml")
     p.add_argument("--export", type=Path, help="also copy facing.pt here "
                    "(assets/models/facing.pt)")
     p.set_defaults(func=run_train)
@@ -61,13 +64,16 @@ def run_data(args: argparse.Namespace) -> int:
     return 0
 
 
+@training_command("facing")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train facing``."""
     from app.core.checkpoint import atomic_copy
-    from perception.facing.config import load_facing_config
+    from app.core.run_config import config_for
+    from perception.facing.config import FacingConfig, load_facing_config
     from perception.facing.training.train import MODEL_FILE, train
 
-    summary = train(load_facing_config(args.config), args.data, args.out, args.resume)
+    cfg = config_for(args, FacingConfig, lambda: load_facing_config(args.config), "config")
+    summary = train(cfg, args.data, args.out, args.resume)
     if args.export:
         atomic_copy(args.out / MODEL_FILE, args.export)
     print(json.dumps(summary))

@@ -5,7 +5,8 @@ shuffles the training crops (mirrored at random when ``train.flip``: a mirrored 
 looks the other way, so the angle changes sign), takes AdamW steps on the label-smoothed
 cross-entropy of the angle bins under a cosine learning-rate schedule, then scores the
 validation crops; the best epoch by validation mean angular error is exported. The
-checkpoint after every epoch makes an interrupted training resumable (``--resume``).
+checkpoint after every epoch makes an interrupted training resumable (``--resume``): SIGINT
+or SIGTERM stops it when the epoch under way ends (:mod:`app.core.interrupts`).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 
 from app.core.checkpoint import TrainingFolder
+from app.core.interrupts import stop_point, stop_requests
 from app.core.torch_threads import torch_threads
 from perception.facing.config import FacingConfig
 from perception.facing.model import FacingEstimator, FacingModelError, FacingNet, angle_bin
@@ -42,6 +44,7 @@ def train(cfg: FacingConfig, data: Path, out: Path, resume: bool = False,
           progress: bool = True) -> dict[str, Any]:
     """Train on the data set in ``data`` into the run folder ``out``; the summary."""
     folder = TrainingFolder(out, resume, FacingModelError)
+    folder.use_config(cfg)
     tc = cfg.train
     torch.manual_seed(tc.seed)
     rng = np.random.default_rng(tc.seed)
@@ -53,17 +56,15 @@ def train(cfg: FacingConfig, data: Path, out: Path, resume: bool = False,
                                                 pct_start=0.15)
     start_epoch, best = 0, float("inf")
     if folder.state is not None:
-        net.load_state_dict(folder.state["net"])
-        opt.load_state_dict(folder.state["opt"])
-        sched.load_state_dict(folder.state["sched"])
+        folder.restore(net=net, opt=opt, sched=sched)
         rng.bit_generator.state = folder.state["rng"]
+        torch.set_rng_state(folder.state["torch_rng"])
         start_epoch, best = folder.state["epoch"], folder.state["best"]
-    else:
-        folder.write_config(cfg.model_dump(mode="json"))
     log = folder.open_log("train_log.csv", LOG_FIELDS, keep=lambda r: int(r[0]) <= start_epoch)
     writer = csv.writer(log)
-    with torch_threads(tc.threads or None):
+    with stop_requests(), torch_threads(tc.threads or None), log:
         for epoch in range(start_epoch + 1, tc.epochs + 1):
+            stop_point()  # the checkpoint of the epoch before is written
             net.train()
             order = rng.permutation(len(tr["angles"]))
             losses = []
@@ -93,10 +94,9 @@ def train(cfg: FacingConfig, data: Path, out: Path, resume: bool = False,
             log.flush()
             folder.save({"net": net.state_dict(), "opt": opt.state_dict(),
                          "sched": sched.state_dict(), "rng": rng.bit_generator.state,
-                         "epoch": epoch, "best": best})
+                         "torch_rng": torch.get_rng_state(), "epoch": epoch, "best": best})
             if progress:
                 print(f"epoch {epoch}/{tc.epochs}: loss {np.mean(losses):.4f}, "
                       f"val MAE {val['mae_deg']:.1f} deg, view {val['view_accuracy']:.3f}")
-    log.close()
     return {"best_val_mae_deg": best, "epochs": tc.epochs, "wall_s": round(folder.wall(), 1),
             "model": str(out / MODEL_FILE)}

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from app.core.cli_args import integer, seed
 from app.core.errors import UserError
 from app.core.files import read_bytes
+from app.core.interrupts import training_command
 from app.core.paths import MODELS_DIR
 
 if TYPE_CHECKING:
@@ -56,7 +57,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-train"), help="run folder")
-    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
+                   "with the run's own resolved_config.yaml")
     p.add_argument("--export", type=Path, help="also copy vqg.pt here (assets/models/vqg.pt)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.add_argument("--ablation", choices=["no_d1", "no_d2", "gaussian"],
@@ -147,11 +149,15 @@ def run_data(args: argparse.Namespace) -> int:
     return 0
 
 
+@training_command("vqg")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train vqg``."""
+    from app.core.run_config import config_for
+    from perception.vqg.config import VqgConfig
     from perception.vqg.training.train import train
 
-    cfg = _config(args).ablated(args.ablation)
+    cfg = config_for(args, VqgConfig, lambda: _config(args).ablated(args.ablation), "config",
+                     "data", "ablation")
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     image_from=args.image_from)
     if args.export:

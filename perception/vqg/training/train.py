@@ -28,6 +28,7 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 
 from app.core.checkpoint import atomic_torch_save, read_weights
+from app.core.interrupts import stop_requests, stops_first
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgModelError
 from perception.vqg.model import (
@@ -141,8 +142,7 @@ def train(cfg: VqgConfig, out_dir: Path, resume: bool = False, progress: bool = 
     model = VqgModel(len(data.vocab), cfg.model)
     head = torch.nn.Linear(cfg.model.feature_dim, data.image_targets["train"].shape[1])
     run = Run(cfg, out_dir, {"vqg": model, "image_head": head}, resume, progress, name="vqg")
-    if run.folder.state is None:
-        run.folder.write_config(cfg.model_dump(mode="json"))
+    run.folder.use_config(cfg)
     summary_path = out_dir / "summary.json"
     summary = json.loads(summary_path.read_text()) if summary_path.exists() else {}
     summary.update({"vocab": len(data.vocab), "questions": len(data.seqs),
@@ -151,13 +151,14 @@ def train(cfg: VqgConfig, out_dir: Path, resume: bool = False, progress: bool = 
     if image_from is not None and "image" not in run.done:
         summary["image"] = reuse_image_encoder(model, data.vocab, image_from)
         run.finish("image")
-    for phase in PHASES:
-        if phase in run.done:
-            continue
-        summary.update(PHASE_FNS[phase](run, data, model, selector) or {})
-        summary.setdefault("wall_s_after", {})[phase] = round(run.wall(), 1)
-        run.finish(phase)
-        summary_path.write_text(json.dumps(summary, indent=2))
+    with stop_requests():  # SIGINT or SIGTERM: a checkpoint before the next step, then stop
+        for phase in PHASES:
+            if phase in run.done:
+                continue
+            summary.update(PHASE_FNS[phase](run, data, model, selector) or {})
+            summary.setdefault("wall_s_after", {})[phase] = round(run.wall(), 1)
+            run.finish(phase)
+            summary_path.write_text(json.dumps(summary, indent=2))
     summary["selected"] = selector.best_meta()
     summary_path.write_text(json.dumps(summary, indent=2))
     return summary
@@ -187,6 +188,7 @@ def phase_image(run: Run, data: Data, model: VqgModel, _: Selector) -> dict:
         logits = head(model.image(model.image.features(images)))
         return F.binary_cross_entropy_with_logits(logits, target)
 
+    @stops_first
     def step(_: int) -> dict[str, float]:
         model.train()
         idx = sampler.next().labels
@@ -231,6 +233,7 @@ def phase_vae(run: Run, data: Data, model: VqgModel, selector: Selector) -> None
     sampler = BatchSampler(data.seqs, data.owner, tc.batch_size, tc.seed + 2)
     opt = _adam(run, model.generator_parameters(), tc.lr)
 
+    @stops_first
     def step(i: int) -> dict[str, float]:
         model.train()
         batch = sampler.next()
@@ -258,6 +261,7 @@ def phase_adversarial(run: Run, data: Data, model: VqgModel, selector: Selector)
     if model.d1 is not None or model.d2 is not None:
         optimizers["d"] = _adam(run, model.discriminator_parameters(), tc.disc_lr)
 
+    @stops_first
     def step(i: int) -> dict[str, float]:
         model.train()
         batch = sampler.next()

@@ -10,6 +10,7 @@ import json
 from pathlib import Path
 
 from app.core.cli_args import integer, seed
+from app.core.interrupts import training_command
 from app.mind.policy.config import DEFAULT_POLICY
 
 MODELS_DIR = DEFAULT_POLICY.parent
@@ -25,7 +26,8 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, help="policy YAML overriding app/defaults/policy.yaml")
     p.add_argument("--personality", type=Path, help="personality YAML overriding the thesis's")
     p.add_argument("--out", type=Path, default=Path("runs/train-policy"), help="run folder")
-    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out")
+    p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
+                   "with the run's own resolved_config.yaml")
     p.add_argument("--export", type=Path,
                    help="also copy the trained policy here (e.g. assets/models/policy.pt)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -55,17 +57,20 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_eval)
 
 
+@training_command("policy")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train policy``."""
     from app.core.checkpoint import atomic_copy
+    from app.core.run_config import config_for
     from app.mind.personality import load_personality
     from app.mind.policy.config import load_policy_config
     from app.mind.policy.training.plots import training_curves
-    from app.mind.policy.training.train import train
+    from app.mind.policy.training.train import PolicyRunConfig, train
 
-    personality = load_personality(args.personality)
-    cfg = load_policy_config(args.config)
-    summary = train(personality, cfg, args.out, resume=args.resume,
+    run = config_for(args, PolicyRunConfig, lambda: PolicyRunConfig(
+        personality=load_personality(args.personality), policy=load_policy_config(args.config)),
+        "config", "personality")
+    summary = train(run.personality, run.policy, args.out, resume=args.resume,
                     progress=not args.no_progress)
     training_curves(args.out / "train_log.csv", args.out / "plots")
     if args.export:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import itertools
 import json
 from pathlib import Path
 
@@ -20,6 +21,8 @@ import torch.nn.functional as F  # noqa: N812
 from tqdm import tqdm
 
 from app.core.checkpoint import TrainingFolder, atomic_torch_save
+from app.core.config_files import StrictModel
+from app.core.interrupts import stop_point, stop_requests
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import ACTIONS, MOTIVATIONS, Personality
 from app.mind.policy.agent import DQNPolicy, PolicyFileError
@@ -114,11 +117,22 @@ def selection_score(stats: dict, rsr_target: float) -> tuple[float, float]:
     return (min(stats["rsr"], rsr_target), stats["mean_reward"])
 
 
+class PolicyRunConfig(StrictModel):
+    """What a policy training's ``resolved_config.yaml`` holds."""
+
+    personality: Personality
+    policy: PolicyConfig
+
+
 def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bool = False,
           progress: bool = True) -> dict:
-    """Train a policy into ``out_dir``; returns a summary with the exported policy path."""
+    """Train a policy into ``out_dir``; returns a summary with the exported policy path.
+
+    SIGINT and SIGTERM stop it at the next decision round (or pre-training update) with a
+    checkpoint written there (:mod:`app.core.interrupts`); ``resume`` continues exactly."""
     tc = cfg.train
     folder = TrainingFolder(out_dir, resume, PolicyFileError)
+    folder.use_config(PolicyRunConfig(personality=personality, policy=cfg))
     eval_path = out_dir / "eval_log.csv"
     torch.set_num_threads(1)
     torch.manual_seed(tc.seed)
@@ -140,31 +154,23 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         homeostasis, env_cfg, tc, lambda d: training_reward(d, homeostasis.duration, tc),
         discounts)
     writer = NStepWriter(memory, tc.n_step, tc.num_envs, n_obs, discounts)
-    transitions = updates = episodes = 0
-    credit = 0.0
+    transitions = updates = episodes = evals = 0
+    credit, finished = 0.0, False
     best: tuple[float, float] | None = None
 
     if folder.state is not None:
         state = folder.state
-        try:
-            q.load_state_dict(state["q"])
-            target.load_state_dict(state["target"])
-            optimizer.load_state_dict(state["optimizer"])
-            memory.load_state_dict(state["memory"])
-            env.load_state_dict(state["env"])
-        except (KeyError, RuntimeError, ValueError) as exc:
-            raise PolicyFileError(
-                f"{folder.ckpt_path}: cannot resume from this checkpoint, written for another "
-                f"network or by an older version ({type(exc).__name__}: {exc}); train into a new "
-                "--out folder") from None
+        folder.restore(q=q, target=target, optimizer=optimizer, memory=memory, env=env)
         rng.bit_generator.state = state["rng"]
         torch.set_rng_state(state["torch_rng"])
         transitions, updates, episodes = state["counters"]
-        credit, best = state["credit"], state["best"]
-    else:
-        folder.write_config({"personality": personality.model_dump(by_alias=True, mode="json"),
-                             "policy": cfg.model_dump(mode="json")})
-    folder.open_log(eval_path.name, EVAL_FIELDS).close()
+        credit, best, evals = state["credit"], state["best"], state["evals"]
+        finished = state["finished"]
+    # on resume, the logs keep their rows up to the checkpoint
+    validated = itertools.count()
+    folder.open_log(eval_path.name, EVAL_FIELDS, keep=lambda _: next(validated) < evals).close()
+    log_file = folder.open_log("train_log.csv", LOG_FIELDS, keep=lambda r: int(r[2]) <= episodes)
+    log = csv.writer(log_file)
 
     def save_checkpoint() -> None:
         folder.save({
@@ -173,11 +179,12 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             "env": env.state_dict(), "rng": rng.bit_generator.state,
             "torch_rng": torch.get_rng_state(),
             "counters": (transitions, updates, episodes), "credit": credit, "best": best,
+            "evals": evals, "finished": finished,
         })
 
     def validate_and_keep_best() -> None:
         """Validate the greedy policy; export it when it beats the best so far."""
-        nonlocal best
+        nonlocal best, evals
         stats = validate(q, homeostasis, cfg)
         score = selection_score(stats, tc.select_rsr)
         improved = best is None or score > best
@@ -192,6 +199,7 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
             csv.writer(fh).writerow([transitions, updates, f"{stats['rsr']:.6f}",
                                      f"{stats['mean_reward']:.2f}", int(improved),
                                      f"{wall:.1f}"])
+        evals += 1
 
     def choose(obs: np.ndarray) -> np.ndarray:
         eps = linear_schedule(tc.epsilon_start, tc.epsilon_end,
@@ -220,19 +228,27 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
         if updates % tc.checkpoint_every == 0:
             save_checkpoint()
 
-    log_file = folder.open_log("train_log.csv", LOG_FIELDS)
-    log = csv.writer(log_file)
+    def learn() -> None:
+        """The gradient steps the collected decisions have earned."""
+        nonlocal credit
+        while credit >= 1.0:
+            credit -= 1.0
+            update(pretraining=False)
+
     recent: list[dict] = []
-    try:
+    with stop_requests(), log_file:
         for _ in tqdm(range(updates, tc.demo_pretrain_updates if demos is not None else 0),
                       disable=not progress, desc="pre-train on the rule", unit="upd"):
+            stop_point(save_checkpoint)
             update(pretraining=True)
-        if transitions == 0:
-            every = np.arange(tc.num_envs)
-            env.act(every, choose(env.observe(every)))
+        waiting = np.flatnonzero(env.remaining <= 0)  # a fresh run's envs, all of them
+        if len(waiting):
+            env.act(waiting, choose(env.observe(waiting)))
+        learn()  # a checkpoint written between two updates left some to do
         with tqdm(total=tc.total_transitions, initial=transitions, disable=not progress,
                   desc="train policy", unit="dec") as bar:
             while transitions < tc.total_transitions:
+                stop_point(save_checkpoint)
                 d = env.advance()
                 writer.add(d, training_reward(d, homeostasis.duration, tc), d.terminal)
                 transitions += len(d.idx)
@@ -251,20 +267,13 @@ def train(personality: Personality, cfg: PolicyConfig, out_dir: Path, resume: bo
                     bar.set_postfix(eps=f"{eps:.2f}",
                                     rsr=f"{np.mean([e['rsr'] for e in recent]):.4f}",
                                     ret=f"{np.mean([e['return'] for e in recent]):.0f}")
-
-                if memory.size < tc.learning_starts:
-                    continue
-                credit += len(d.idx) * tc.updates_per_transition
-                while credit >= 1.0:
-                    credit -= 1.0
-                    update(pretraining=False)
-    except KeyboardInterrupt:
-        save_checkpoint()
-        raise
-    finally:
-        log_file.close()
-    validate_and_keep_best()
-    save_checkpoint()
+                if memory.size >= tc.learning_starts:
+                    credit += len(d.idx) * tc.updates_per_transition
+                    learn()
+        if not finished:  # a finished run resumed has nothing left to do
+            validate_and_keep_best()
+            finished = True
+            save_checkpoint()
     wall = folder.wall()
     summary = {"transitions": transitions, "updates": updates, "episodes": episodes,
                "wall_s": round(wall, 1), "seed": tc.seed,
