@@ -38,9 +38,11 @@ KINDS = {"SIGINT": signal.SIGINT, "SIGTERM": signal.SIGTERM, "SIGKILL": signal.S
 
 
 def companion(*args: str) -> subprocess.Popen:
-    """Start ``companion`` with ``args`` (output discarded)."""
+    """Start ``companion`` with ``args`` (output discarded), SIGINT acting as Ctrl-C at a
+    terminal even when this benchmark runs in the background (where it is ignored)."""
     return subprocess.Popen([sys.executable, "-m", "app.cli", *args], cwd=ROOT,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def started(out: Path, process: subprocess.Popen) -> float:

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 import torch
 import yaml
-from test_training_resume import refuses_changes_and_bad_checkpoints
+from test_training_resume import ctrl_c, refuses_changes_and_bad_checkpoints
 
 from app.core.checkpoint import read_checkpoint
 from app.core.config_files import ConfigError
@@ -232,7 +232,7 @@ def test_checkpoint_resume_matches_an_uninterrupted_run(tmp_path, monkeypatch):
         return real_step(self, *args, **kwargs)
 
     cfg = tiny_config(tmp_path, folder, epochs=2)
-    with monkeypatch.context() as m:
+    with monkeypatch.context() as m, ctrl_c():
         m.setattr(torch.optim.Adam, "step", interrupting_step)
         with pytest.raises(KeyboardInterrupt):
             train(cfg, tmp_path / "ctrl-c", progress=False)

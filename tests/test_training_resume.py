@@ -5,6 +5,7 @@ files check the same rules on their tiny runs."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import os
@@ -13,6 +14,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -21,6 +23,7 @@ import torch
 from app.cli import main
 from app.core.checkpoint import TrainingFolder, read_checkpoint
 from app.core.errors import UserError
+from app.core.interrupts import stop_point, stop_requests
 from app.core.run_config import differences
 from app.mind.personality import load_personality
 from app.mind.policy.config import load_policy_config
@@ -79,6 +82,17 @@ def refuses_changes_and_bad_checkpoints(command: list[str], run: Path, out: Path
     lines = err_lines(capsys)
     assert len(lines) == 1 and lines[0].startswith("companion: error: ")
     assert "checkpoint.pt: not a readable checkpoint" in lines[0]
+
+
+@contextlib.contextmanager
+def ctrl_c() -> Iterator[None]:
+    """Within the block SIGINT raises KeyboardInterrupt, as typed at a terminal (a test run
+    that a script put in the background starts with it ignored, and a training keeps it so)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @pytest.fixture(scope="module")
@@ -199,7 +213,7 @@ def test_sigint_in_pretraining_resumes_exactly(tmp_path, monkeypatch):
             os.kill(os.getpid(), signal.SIGINT)
         return real(*a, **k)
 
-    with monkeypatch.context() as m:
+    with monkeypatch.context() as m, ctrl_c():
         m.setattr(policy_train, "dqn_update", update)
         with pytest.raises(KeyboardInterrupt):
             policy_train.train(load_personality(), cfg, tmp_path / "cut", progress=False)
@@ -209,6 +223,17 @@ def test_sigint_in_pretraining_resumes_exactly(tmp_path, monkeypatch):
     a = torch.load(tmp_path / "straight" / "policy.pt", weights_only=True)["state_dict"]
     b = torch.load(tmp_path / "cut" / "policy.pt", weights_only=True)["state_dict"]
     assert all(torch.equal(a[k], b[k]) for k in a)
+
+
+def test_a_sigint_the_process_ignores_stays_ignored():
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with stop_requests():
+            os.kill(os.getpid(), signal.SIGINT)
+            stop_point()  # nothing asked
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def companion(*args: str) -> subprocess.Popen:

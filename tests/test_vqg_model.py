@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 import pytest
 import torch
-from test_training_resume import refuses_changes_and_bad_checkpoints
+from test_training_resume import ctrl_c, refuses_changes_and_bad_checkpoints
 
 from app.core.checkpoint import read_checkpoint
 from app.core.errors import UserError
@@ -249,7 +249,7 @@ def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monk
         return real(*a, **k)
 
     monkeypatch.setattr(vqg_train, "vae_losses", interrupt)
-    with pytest.raises(KeyboardInterrupt):
+    with ctrl_c(), pytest.raises(KeyboardInterrupt):
         vqg_train.train(cfg, tmp_path / "cut", progress=False)
     assert read_checkpoint(tmp_path / "cut" / "checkpoint.pt")["step"] == 13  # it finished
     monkeypatch.setattr(vqg_train, "vae_losses", real)

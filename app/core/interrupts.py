@@ -7,6 +7,8 @@ position, random generators, logs) is consistent: it writes its checkpoint there
 ``KeyboardInterrupt`` for SIGINT or :class:`~app.core.signals.Terminated` for SIGTERM, so a
 resumed run goes on exactly as an uninterrupted one. A second signal stops it at once and
 keeps the last checkpoint; a training that ends before its next stop point ends normally.
+A signal the process was started ignoring (SIGINT in a job a script put in the background)
+stays ignored.
 
 :func:`training_command` wraps the handler of ``companion train ...``: SIGTERM stops it as
 Ctrl-C does, and an interrupted training prints one line saying how to resume it and exits
@@ -52,7 +54,8 @@ def stop_requests() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = {s: signal.signal(s, _request) for s in (signal.SIGINT, signal.SIGTERM)}
+    previous = {s: signal.signal(s, _request) for s in (signal.SIGINT, signal.SIGTERM)
+                if signal.getsignal(s) is not signal.SIG_IGN}
     try:
         yield
     finally:
