@@ -26,6 +26,7 @@ from tqdm import tqdm
 from app.core.checkpoint import atomic_write_bytes
 from app.core.run_folder import RunFolderError, claim, release
 from app.core.signals import shielded, signal_name, terminable
+from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import DEFAULT_POLICY
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
@@ -98,15 +99,17 @@ class HouseholdRun:
 
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
               policy_path: Path | None = None, behaviour_config: Path | None = None,
-              audio: bool = False) -> HouseholdRun:
+              audio: bool = False, faults: FaultSpec | None = None) -> HouseholdRun:
     """Build the world, the robot's services (detector, facing model, dialogue, question
     generator, policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
-    ask-question skill fails (it has no canned questions)."""
+    ask-question skill fails (it has no canned questions). With ``faults``, a
+    :class:`~app.faults.FaultInjector` breaks things as the run goes (before each tick), and
+    an exception inside a behaviour fails that behaviour instead of the run."""
     check_occasion(scenario)   # before anything is built or written
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
     policy = DQNPolicy.load(policy_path or DEFAULT_POLICY)
-    detector = YoloDetector.from_config(load_detector_config().detect)
+    detector: Any = YoloDetector.from_config(load_detector_config().detect)
     sim = Simulation(scenario, gui=gui)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
@@ -126,15 +129,22 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
                        audio_dir=out / "audio" if audio else None, dialogue=dialogue,
                        questions=questions, facing=facing)
-    ctx.snapshot = saver
+    ctx.snapshot, ctx.contain_faults = saver, True
     tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
+    if faults is not None:
+        injector = FaultInjector(faults, sim, ctx.events)
+        ctx.detector = FaultyDetector(detector, injector)
+        injector.at_load(dialogue)
+        tree.add_pre_tick_handler(lambda _: injector.apply(
+            sim.t, ctx.history[-1]["action"] if ctx.history else None))
     tree.setup()
     return HouseholdRun(scenario, sim, ctx, tree, saver, out)
 
 
 def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
                  policy_path: Path | None = None, behaviour_config: Path | None = None,
-                 audio: bool = False, overwrite: bool = False) -> dict[str, Any]:
+                 audio: bool = False, overwrite: bool = False, faults: FaultSpec | None = None
+                 ) -> dict[str, Any]:
     """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
     :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) and return the
     metrics. SIGINT or SIGTERM ends the run early: the report is still written and
@@ -145,7 +155,7 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
     claim(out, overwrite)
     try:
         run = build_run(scenario, out, gui=gui, policy_path=policy_path,
-                        behaviour_config=behaviour_config, audio=audio)
+                        behaviour_config=behaviour_config, audio=audio, faults=faults)
         atomic_write_bytes(out / "scenario.yaml", yaml.safe_dump(
             scenario.model_dump(mode="json"), sort_keys=False).encode())
         with run.sim:
@@ -219,6 +229,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
         "interrupted": interrupt is not None,
         "interrupted_by": signal_name(interrupt) if interrupt is not None else None,
         **compute_metrics(ctx.history, ctx.events.events),
+        "faults": fault_report(ctx.events.events),
         "camera_frames": ctx.frames_taken,
         "camera_rate_hz": {"default": ctx.camera_rate,
                            "tracking": ctx.config.perception.tracking_rate},

@@ -43,6 +43,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--audio", action="store_true",
                    help="also speak every sentence into audio/NNNN.wav (needs espeak-ng, "
                    "`make tts`)")
+    p.add_argument("--faults", type=Path,
+                   help="YAML of faults to inject (docs/reliability.md): the run reports "
+                   "each one and the robot's recovery in metrics.json")
     p.add_argument("--json", action="store_true", help="print the metrics as one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_command)
@@ -86,6 +89,7 @@ def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
     from app.core.errors import UserError
     from app.core.run_folder import default_folder
+    from app.faults import load_faults
     from app.run import run_scenario
     from app.sim.scenario import load_scenario
 
@@ -99,9 +103,10 @@ def run_command(args: argparse.Namespace) -> int:
     if args.gui and not os.environ.get("DISPLAY"):
         raise UserError("--gui needs a display (DISPLAY is not set); run headless without it")
     out = args.out or default_folder(Path("runs"), scenario.name)
+    faults = load_faults(args.faults) if args.faults else None
     metrics = run_scenario(scenario, out, gui=args.gui, progress=not args.no_progress,
                            policy_path=args.policy, behaviour_config=args.behaviour,
-                           audio=args.audio, overwrite=args.overwrite)
+                           audio=args.audio, overwrite=args.overwrite, faults=faults)
     status = 128 + getattr(signal, metrics["interrupted_by"]) if metrics["interrupted"] else 0
     if args.json:
         print(json.dumps(metrics))

@@ -46,6 +46,7 @@ class ChargeConfig(StrictModel):
 
     ask: str
     done: str
+    dock_blocked: str
     robot_radius: PositiveFloat
     grid_resolution: PositiveFloat
     waypoint_tolerance: PositiveFloat

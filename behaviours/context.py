@@ -66,6 +66,7 @@ class Context:
     frames_taken: int = 0                    # head-camera frames rendered so far
     snapshot: Any = None                     # callable(tag, frame) -> saved path, or None
     history: list[dict[str, Any]] = field(default_factory=list)  # one row per homeostasis step
+    contain_faults: bool = False   # an exception in a behaviour fails it (household runs)
 
     @property
     def now(self) -> float:

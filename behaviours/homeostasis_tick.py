@@ -14,6 +14,8 @@ from behaviours.blackboard import motivations_and_mood
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
 
+BATTERY_TOLERANCE = 0.02   # charge the battery may differ from 1 - energy before it counts
+
 
 class HomeostasisTick(ContextBehaviour):
     """Drives, motivations and mood on the blackboard; one history row per step. The
@@ -45,7 +47,20 @@ class HomeostasisTick(ContextBehaviour):
             self._step()
         return Status.SUCCESS
 
+    def _read_battery(self) -> None:
+        """The energy drive follows a battery that lost charge on its own (a failing cell):
+        charging then pre-empts as for any low battery (a ``fault`` event says so)."""
+        i, battery = DRIVES.index("energy"), self.ctx.robot.battery
+        if battery < 1.0 - self.bb.drives[i] - BATTERY_TOLERANCE:
+            self.emit("fault", fault="battery_drop", battery=round(battery, 3),
+                      expected=round(1.0 - float(self.bb.drives[i]), 3),
+                      recovery="the energy drive follows the battery; charging pre-empts")
+            drives = self.bb.drives.copy()
+            drives[i] = 1.0 - battery
+            self.bb.drives = drives
+
     def _step(self) -> None:
+        self._read_battery()
         h, bb = self.ctx.homeostasis, self.bb
         action, relieving = bb.action, bool(bb.relieving)
         a = STAND_BY if action is None else ACTIONS.index(action)

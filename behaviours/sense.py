@@ -10,7 +10,8 @@
   detector; a plausible person box whose person is at most ``present_max_distance_m``
   away in the depth image makes the human-present stimulus, held ``present_hold_s`` after
   the last one;
-- the motor temperature model gives the overheat stimulus.
+- the motor temperature model gives the overheat stimulus;
+- camera frames, the detector and the joints are watched for faults (behaviours/health.py).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from py_trees.common import Status
 from app.sim.hearing import HeardLine
 from app.sim.world import EmotionEvent, EncourageEvent
 from behaviours.context import Context
+from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, people_in_view
 from perception.detector.yolo import Detection
@@ -42,6 +44,7 @@ class Sense(ContextBehaviour):
         self._emotion_until = -np.inf
         self._present_until = -np.inf
         self.range: PersonRange | None = None
+        self.health = SensorHealth(self.emit)
 
     def setup(self, **kwargs: Any) -> None:
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
@@ -75,7 +78,9 @@ class Sense(ContextBehaviour):
             return
         frame, depth = ctx.robot.camera_frame_with_depth()
         ctx.frames_taken += 1
-        detections = ctx.detector.detect(frame) if ctx.detector is not None else []
+        detections = (self.health.detect(ctx.detector, frame, self.now)
+                      if ctx.detector is not None
+                      and self.health.frame_usable(frame, ctx.robot.frame_seq, self.now) else [])
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
         if any(self._in_front(d) for d in people_in_view(ctx, detections)):
@@ -91,6 +96,7 @@ class Sense(ContextBehaviour):
     def update(self) -> Status:
         self._social()
         self._camera()
+        self.health.joints(self.ctx.robot.tracking_errors(), self.now)
         self.bb.stimuli = np.array([float(self.ctx.robot.overheated),
                                     float(self.now <= self._present_until),
                                     float(self.now <= self._encouraged_until)])

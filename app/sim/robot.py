@@ -261,6 +261,9 @@ class Robot:
         self._battery = Battery(self.cfg.battery)
         self._heat = MotorHeat(self.cfg.thermal)
         self._light: dict[str, Any] = {}
+        self._camera_fault: str | None = None
+        self._last_render: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        self.frame_seq = 0   # sequence number of the camera's frames (a frozen camera repeats)
         self._held = self._setpoint
         self._send_motor_commands(self._setpoint, self._joint_velocity)
 
@@ -504,7 +507,38 @@ class Robot:
         # OpenGL depth buffer in [0, 1] -> distance along the optical axis (m)
         z = np.asarray(zbuf, dtype=np.float32).reshape(height, width)
         depth = cam.far * cam.near / (cam.far - (cam.far - cam.near) * z)
-        return rgb, np.asarray(seg, dtype=np.int32).reshape(height, width), depth
+        if self._camera_fault == "black":
+            rgb[:] = 0
+        self.frame_seq += 1
+        render = (rgb, np.asarray(seg, dtype=np.int32).reshape(height, width), depth)
+        self._last_render[width, height] = render
+        return render
+
+    def _frame(self, width: int, height: int, flags: int
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """A new render, or the last one again while the camera is frozen."""
+        if self._camera_fault == "frozen" and (width, height) in self._last_render:
+            return self._last_render[width, height]
+        return self._render(width, height, flags)
+
+    # -- faults (``companion run --faults``, docs/reliability.md) -----------------------------
+    def set_camera_fault(self, mode: str | None) -> None:
+        """``"black"``: black colour frames; ``"frozen"``: the last frame again, with its
+        sequence number (:attr:`frame_seq`); None: the camera works."""
+        self._camera_fault = mode
+
+    def fail_joint(self, name: str, failed: bool = True) -> None:
+        """Cut the motor torque of joint ``name`` to 0 (or give it back)."""
+        i = JOINT_NAMES.index(name)
+        effort = p.getJointInfo(self.body_id, self._joint_ids[i], physicsClientId=self.client)[10]
+        self._forces[i] = 0.0 if failed else effort * self.cfg.joints.force_scale
+        self._send_motor_commands(self._held, self._joint_velocity)
+
+    def tracking_errors(self) -> dict[str, float]:
+        """|measured - commanded| angle per joint (rad): large for a joint that can't follow."""
+        measured = np.array(list(self.joint_positions().values()))
+        return dict(zip(JOINT_NAMES, np.abs(measured - self._setpoint).round(3).tolist(),
+                        strict=True))
 
     def set_lighting(self, light: Mapping[str, Any]) -> None:
         """TinyRenderer lighting for the camera: keyword arguments of ``getCameraImage``
@@ -514,14 +548,14 @@ class Robot:
 
     def camera_frame(self, width: int = 320, height: int = 240) -> np.ndarray:
         """RGB image (height, width, 3) uint8 from the head camera (TinyRenderer)."""
-        return self._render(width, height, p.ER_NO_SEGMENTATION_MASK)[0]
+        return self._frame(width, height, p.ER_NO_SEGMENTATION_MASK)[0]
 
     def camera_frame_with_depth(self, width: int = 320, height: int = 240,
                                 ) -> tuple[np.ndarray, np.ndarray]:
         """RGB image and the (height, width) float32 depth image of the same view: each
         pixel's distance along the optical axis in metres (Pepper's 3D camera; the same
         render, so it costs nothing extra)."""
-        rgb, _, depth = self._render(width, height, p.ER_NO_SEGMENTATION_MASK)
+        rgb, _, depth = self._frame(width, height, p.ER_NO_SEGMENTATION_MASK)
         return rgb, depth
 
     def camera_frame_with_segmentation(self, width: int = 320, height: int = 240,
@@ -529,7 +563,7 @@ class Robot:
         """RGB image and the (height, width) int32 segmentation mask. Each mask value is
         ``body_id + ((link_index + 1) << 24)``, -1 for background; see
         :func:`decode_segmentation`."""
-        return self._render(width, height, p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX)[:2]
+        return self._frame(width, height, p.ER_SEGMENTATION_MASK_OBJECT_AND_LINKINDEX)[:2]
 
     # -- battery and temperature ---------------------------------------------------------
     @property

@@ -482,6 +482,10 @@ class World:
         return Pose2D(person.x, person.y, person.yaw)
 
     def _apply(self, t: float, name: str, e: Event) -> SocialEvent | None:
+        if e.enter is None and name not in self.people:   # gone (a fault took them away)
+            return None
+        if e.walk_to is not None and e.walk_to.person not in (None, *self.people):
+            return None
         if e.enter is not None:
             spot = (self._door_spawn(e.enter.door) if e.enter.door is not None
                     else Pose2D(e.enter.x, e.enter.y, math.radians(e.enter.yaw)))  # type: ignore[arg-type]
@@ -562,6 +566,22 @@ class World:
             else:
                 person.set_gait(walked / (0.45 * person.appearance.height) * math.pi)
         return social
+
+    # -- faults (companion run --faults) -----------------------------------------------------
+
+    def drop_box(self, name: str, x: float, y: float, size: float = 0.45) -> None:
+        """A box appears at ``(x, y)``: an obstacle the robot's floor map does not hold."""
+        part = Part("box", (size, size, size), (0.6, 0.45, 0.3), (0, 0, size / 2))
+        self.bodies[name] = build_body(self.client, name, [part], (x, y, 0))
+
+    def take_away(self, name: str) -> None:
+        """Remove the body ``name`` (a dropped box) or the person ``name`` at once; their
+        later timeline events are skipped."""
+        if name in self.people:
+            self.people.pop(name).remove()
+            self._walks.pop(name, None)
+        else:
+            p.removeBody(self.bodies.pop(name), physicsClientId=self.client)
 
     # -- queries -------------------------------------------------------------------------------
 

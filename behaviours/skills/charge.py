@@ -97,7 +97,9 @@ class FollowPath(StopBase):
 
 class DockIn(StopBase):
     """Turn on the spot to the dock's heading, then drive straight in; SUCCESS (and a
-    ``docked`` event) within ``dock_position_tolerance`` and ``dock_yaw_tolerance_deg``."""
+    ``docked`` event) within ``dock_position_tolerance`` and ``dock_yaw_tolerance_deg``.
+    Held back by something on the dock for ``replan_blocked_s``, it says so and asks for
+    help once (a ``dock_blocked`` event), and keeps trying until the skill's deadline."""
 
     def __init__(self, name: str, ctx: Context, dock: Pose2D) -> None:
         super().__init__(name, ctx)
@@ -111,9 +113,23 @@ class DockIn(StopBase):
     def initialise(self) -> None:
         self.follower.reset()
         self._aligned = False
+        self._blocked_since: float | None = None
+        self._reported = False
+
+    def _watch_blocked(self) -> None:
+        cfg = self.ctx.config.charge
+        if not self.ctx.robot.blocked:
+            self._blocked_since = None
+            return
+        self._blocked_since = self._blocked_since or self.now
+        if not self._reported and self.now - self._blocked_since >= cfg.replan_blocked_s:
+            self._reported = True
+            self.emit("dock_blocked", pose=[round(v, 3) for v in self.ctx.robot.pose()])
+            self.ctx.speaker.say(cfg.dock_blocked, behaviour=self.name)
 
     def update(self) -> Status:
         cfg, robot = self.ctx.config.charge, self.ctx.robot
+        self._watch_blocked()
         x, y, yaw = robot.pose()
         offset = math.hypot(self.dock.x - x, self.dock.y - y)
         yaw_error = abs(wrap_angle(self.dock.yaw - yaw))
