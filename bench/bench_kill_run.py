@@ -48,7 +48,8 @@ def whole(folder: Path) -> bool:
 def one(folder: Path, sig: signal.Signals, delay: float) -> dict[str, object]:
     """Start a run, signal it after ``delay`` s, and check its folder."""
     proc = subprocess.Popen([*RUN, "--out", str(folder), "--overwrite"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(delay)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=300)

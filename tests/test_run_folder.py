@@ -21,9 +21,16 @@ from app.core.run_folder import RunFolderError, claim, default_folder, release
 RUN = [sys.executable, "-m", "app.cli", "run", "worlds/living_room.yaml", "--no-progress"]
 
 
-def start(out: Path, *extra: str, **kw) -> subprocess.Popen:
+def ctrl_c_as_at_a_terminal() -> None:
+    """In the child: SIGINT as a terminal delivers it (a shell's background job inherits
+    it ignored, and Python then leaves it ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def start(out: Path, *extra: str) -> subprocess.Popen:
     return subprocess.Popen([*RUN, "--out", str(out), *extra], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, **kw)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=ctrl_c_as_at_a_terminal)
 
 
 def wait_running(out: Path, proc: subprocess.Popen, seconds: float = 2.0) -> None:
