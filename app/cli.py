@@ -55,6 +55,10 @@ def main(argv: list[str] | None = None) -> int:
     except (UserError, FileExistsError) as exc:
         print(f"companion: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:   # the file system refused (full disk, permissions, a lost mount)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"companion: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt as exc:
         print(f"companion: interrupted ({signal_name(exc)})", file=sys.stderr)
         return exit_status(exc)

@@ -90,3 +90,11 @@ def test_an_unwritable_out_folder_is_named(tmp_path, capsys, out):
     assert main(["run", str(WORLD), "--duration", "1", "--out", target]) == 2
     err = capsys.readouterr().err
     assert f"{target}: cannot create the run folder" in err and "Traceback" not in err
+
+
+def test_a_corrupt_facing_split_is_named(tmp_path, capsys):
+    (tmp_path / "test.npz").write_bytes(b"PK\x03\x04 not really a zip")
+    assert main(["eval", "facing", "--data", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{tmp_path / 'test.npz'}: not a readable facing data split" in err
+    assert "Traceback" not in err

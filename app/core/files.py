@@ -13,6 +13,7 @@ from pathlib import Path
 from app.core.errors import UserError
 
 TEXT_LIMIT = 1 << 20   # bytes: scenarios, configs, personalities and text inputs
+DATA_LIMIT = 1 << 30   # bytes: a data set's own files (question lists, logs)
 
 
 class FileReadError(UserError, OSError):

@@ -19,11 +19,13 @@ import io
 import json
 import math
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from app.core.checkpoint import atomic_write_bytes
+from app.core.errors import UserError
 from perception.detector.config import load_detector_config
 from perception.detector.training.data import SPLITS, DetectorScene, SceneSpec
 from perception.facing.config import FacingDataConfig
@@ -105,6 +107,12 @@ def write_facing_dataset(out: Path, cfg: FacingDataConfig) -> dict[str, int]:
 
 
 def load_split(root: Path, split: str) -> dict[str, np.ndarray]:
-    """One split of a facing data set (no pickled objects are read)."""
-    with np.load(root / f"{split}.npz", allow_pickle=False) as data:
-        return {k: data[k] for k in data.files}
+    """One split of a facing data set (no pickled objects are read); an unreadable one
+    raises a :class:`~app.core.errors.UserError` naming it."""
+    path = root / f"{split}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return {k: data[k] for k in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise UserError(f"{path}: not a readable facing data split ({exc}); render it "
+                        "with `companion data facing`") from None

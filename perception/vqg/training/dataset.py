@@ -20,6 +20,7 @@ import torch
 
 from app.core.checkpoint import atomic_torch_save
 from app.core.errors import UserError
+from app.core.files import DATA_LIMIT, FileReadError, read_text
 from perception.vqg.frames import prepare_frame
 from textnets.vocab import Vocab
 
@@ -54,10 +55,9 @@ def read_questions(root: Path, split: str) -> tuple[list[str], list[list[list[st
     """Image ids and their tokenised questions from ``questions/{split}.jsonl``."""
     path = root / "questions" / f"{split}.jsonl"
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise VqgDataError(f"{path}: cannot read the VQG questions ({exc.strerror}); "
-                           "render a data set with `companion data vqg`") from None
+        lines = read_text(path, limit=DATA_LIMIT).splitlines()
+    except FileReadError as exc:
+        raise VqgDataError(f"{exc}; render a data set with `companion data vqg`") from None
     ids, questions = [], []
     for n, line in enumerate(lines, 1):
         if not line.strip():
