@@ -3,11 +3,12 @@
     python bench/bench_kill_run.py [--kills 20] [--seed 0] [--out runs/bench-kill-run]
 
 For each signal (SIGINT, SIGTERM, SIGKILL), ``--kills`` runs of worlds/living_room.yaml are
-started and sent the signal after a random delay (from start-up through the run). Afterwards:
+started and sent the signal a random 0-15 s after the run began ticking. Afterwards:
 every JSONL line must parse and every timeline row have the header's width (no half-written
 file), SIGINT/SIGTERM runs must exit 130/143 with their metrics.json saying so (or exit the
 same way before the run began), no temporary file may be left but by SIGKILL, and the folder
-must be reusable with --overwrite. Prints one row per signal.
+must be reusable with --overwrite (its lock free, only a run's files in it). Prints one row
+per signal.
 """
 
 from __future__ import annotations
@@ -16,11 +17,14 @@ import argparse
 import csv
 import json
 import random
+import shutil
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from app.core.run_folder import RunFolderError, claim, release
 
 RUN = [sys.executable, "-m", "app.cli", "run", "worlds/living_room.yaml", "--no-progress",
        "--duration", "600"]
@@ -46,10 +50,13 @@ def whole(folder: Path) -> bool:
 
 
 def one(folder: Path, sig: signal.Signals, delay: float) -> dict[str, object]:
-    """Start a run, signal it after ``delay`` s, and check its folder."""
-    proc = subprocess.Popen([*RUN, "--out", str(folder), "--overwrite"],
+    """Start a run, signal it ``delay`` s after it began ticking, and check its folder."""
+    shutil.rmtree(folder, ignore_errors=True)
+    proc = subprocess.Popen([*RUN, "--out", str(folder)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    while not (folder / "timeline.csv").exists() and proc.poll() is None:
+        time.sleep(0.1)
     time.sleep(delay)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=300)
@@ -58,11 +65,15 @@ def one(folder: Path, sig: signal.Signals, delay: float) -> dict[str, object]:
     reported = (sig == signal.SIGKILL or not started
                 or json.loads(metrics.read_text()).get("interrupted_by") == sig.name)
     temp = [p.name for p in folder.rglob("*.tmp")]
-    again = subprocess.run([*RUN, "--out", str(folder), "--overwrite", "--duration", "0.5"],
-                           capture_output=True, text=True, timeout=300)
+    try:   # what `--overwrite` does first: the lock is free and only run files are there
+        claim(folder, overwrite=True)
+        release(folder)
+        reusable = True
+    except RunFolderError:
+        reusable = False
     return {"code_ok": proc.returncode == CODES[sig], "whole": whole(folder),
             "reported": reported, "temp": temp, "traceback": "Traceback" in err,
-            "reusable": again.returncode == 0, "started": started}
+            "reusable": reusable, "started": started}
 
 
 def main() -> None:
@@ -77,7 +88,7 @@ def main() -> None:
           "report says so | temp files left | tracebacks | folder reusable |")
     print("|---|---|---|---|---|---|---|---|---|")
     for sig in CODES:
-        rows = [one(args.out / f"{sig.name}-{i}", sig, rng.uniform(1.0, 14.0))
+        rows = [one(args.out / f"{sig.name}-{i}", sig, rng.uniform(0.0, 15.0))
                 for i in range(args.kills)]
         count = {k: sum(bool(r[k]) for r in rows) for k in
                  ("started", "code_ok", "whole", "reported", "temp", "traceback", "reusable")}
