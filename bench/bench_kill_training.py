@@ -6,7 +6,8 @@ temporary file (`.*.tmp`) is left, and that the resumed run finished.
 
 Each kill lands at a time drawn uniformly over the training's own span (from the moment the
 run's configuration is written until the uninterrupted reference run ended), so some land
-in the set-up, most in the loop, a few in the final validation and plots.
+in the set-up, most in the loop, a few in the final validation; those that land after
+`summary.json` is written (the plots, the interpreter's exit) are counted apart.
 
 Usage: python bench/bench_kill_training.py [--n 20] [--out runs/bench-kill-training] [--seed 0]
 """
@@ -99,12 +100,14 @@ def trial(config: Path, out: Path, sig: signal.Signals, delay: float) -> dict:
     t0 = started(out, first)
     while first.poll() is None and time.monotonic() - t0 < delay:
         time.sleep(0.005)
-    landed = first.poll() is None
-    if landed:
+    if first.poll() is None:
+        where = "after the training" if (out / "summary.json").exists() else "in the training"
         first.send_signal(sig)
+    else:
+        where = "after the process ended"
     code = first.wait()
     resumed = companion(*args, "--resume").wait()
-    return {"exit": code, "landed": landed, "resume_exit": resumed}
+    return {"exit": code, "where": where, "resume_exit": resumed}
 
 
 def main() -> None:
@@ -138,8 +141,7 @@ def main() -> None:
             out = args.out / f"{name}-{i}"
             t = trial(config, out, sig, float(rng.uniform(0, span)))
             checked = check(out, reference)
-            seen[f"exit {t['exit']}"] += 1
-            seen["landed before the end"] += t["landed"]
+            seen[f"{t['where']}: exit {t['exit']}"] += 1
             seen["resume exit 0"] += t["resume_exit"] == 0
             for key in ("bad_rows", "duplicated_rows", "tmp_files"):
                 seen[key] += checked[key]
