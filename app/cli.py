@@ -17,7 +17,8 @@ from app.core.signals import exit_status, signal_name, terminable
 
 DOMAINS = ["app.mind.policy.training.cli", "dialogue.cli", "dialogue.style.training.cli",
            "dialogue.chat.training.cli", "perception.detector.training.cli",
-           "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli"]
+           "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",
+           "app.sweep.cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
           "data": "generate a data set", "export": "export a trained model for the robot",
           "bench": "measure the whole robot"}

@@ -27,11 +27,12 @@ from app.core.checkpoint import atomic_write_bytes
 from app.core.run_folder import RunFolderError, claim, release
 from app.core.signals import shielded, signal_name, terminable
 from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
+from app.mind.personality import load_personality
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import DEFAULT_POLICY
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
 from app.sim.dances import song_names
-from app.sim.scenario import Scenario
+from app.sim.scenario import Scenario, load_scenario
 from app.sim.simulation import Simulation
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, make_context
@@ -141,13 +142,30 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     return HouseholdRun(scenario, sim, ctx, tree, saver, out)
 
 
+def prepare_scenario(path: Path, *, duration: float | None = None, seed: int | None = None,
+                     loop: bool = False, personality: Path | None = None) -> Scenario:
+    """The scenario at ``path`` with a run's overrides: ``duration``, ``seed``, a looping
+    timeline (``loop``: every scenario duration) and another ``personality`` file."""
+    scenario = load_scenario(path)
+    update: dict[str, Any] = {"loop_period": scenario.duration} if loop else {}
+    if duration is not None:
+        update["duration"] = duration
+    if seed is not None:
+        update["seed"] = seed
+    if personality is not None:
+        load_personality(personality)   # checked now, named if broken
+        update["personality"] = personality.resolve()
+    return scenario.model_copy(update=update)
+
+
 def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
                  policy_path: Path | None = None, behaviour_config: Path | None = None,
-                 audio: bool = False, overwrite: bool = False, faults: FaultSpec | None = None
-                 ) -> dict[str, Any]:
+                 audio: bool = False, overwrite: bool = False, faults: FaultSpec | None = None,
+                 tags: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
     :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) and return the
-    metrics. SIGINT or SIGTERM ends the run early: the report is still written and
+    metrics (with ``tags`` added, e.g. the sweep entry it ran). SIGINT or SIGTERM ends the
+    run early: the report is still written and
     ``metrics["interrupted_by"]`` names the signal. A failed write (a full disk) stops the run
     with a :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
     wall0 = time.perf_counter()
@@ -161,7 +179,7 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
         with run.sim:
             interrupt = _play(run, progress, wall0)
             with shielded():
-                return _finish(run, out, interrupt, wall0)
+                return _finish(run, out, interrupt, wall0, tags or {})
     except OSError as exc:
         raise RunFolderError(f"{exc.filename or out}: writing the run failed "
                              f"({exc.strerror or exc}); the files written before it are kept"
@@ -214,8 +232,8 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
     return None
 
 
-def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, wall0: float
-            ) -> dict[str, Any]:
+def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, wall0: float,
+            tags: dict[str, Any]) -> dict[str, Any]:
     """Stop the tree and write the report: tree.txt, metrics.json, then the plots."""
     scenario, sim, ctx, tree = run.scenario, run.sim, run.ctx, run.tree
     atomic_write_bytes(out / "tree.txt", (render(tree.root) + "\n\nLast tick:\n" + render(
@@ -235,6 +253,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
                            "tracking": ctx.config.perception.tracking_rate},
         "wall_s": round(time.perf_counter() - wall0, 2),
         "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
+        **tags,
     }
     write_metrics(metrics, out / "metrics.json")
     h = ctx.homeostasis

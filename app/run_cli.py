@@ -90,16 +90,10 @@ def run_command(args: argparse.Namespace) -> int:
     from app.core.errors import UserError
     from app.core.run_folder import default_folder
     from app.faults import load_faults
-    from app.run import run_scenario
-    from app.sim.scenario import load_scenario
+    from app.run import prepare_scenario, run_scenario
 
-    scenario = load_scenario(args.scenario)
-    update: dict = {"loop_period": scenario.duration} if args.loop else {}
-    if args.duration is not None:
-        update["duration"] = args.duration
-    if args.seed is not None:
-        update["seed"] = args.seed
-    scenario = scenario.model_copy(update=update)
+    scenario = prepare_scenario(args.scenario, duration=args.duration, seed=args.seed,
+                                loop=args.loop)
     if args.gui and not os.environ.get("DISPLAY"):
         raise UserError("--gui needs a display (DISPLAY is not set); run headless without it")
     out = args.out or default_folder(Path("runs"), scenario.name)

@@ -49,7 +49,9 @@ def default_folder(root: Path, name: str) -> Path:
     return folder
 
 
-def _lock(out: Path) -> int:
+def lock_folder(out: Path) -> int:
+    """Take the folder's ``.lock`` (an ``flock`` held while the returned descriptor is
+    open) or raise :class:`RunFolderError` naming the process that holds it."""
     path = out / LOCK
     try:
         fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
@@ -84,7 +86,7 @@ def claim(out: Path, overwrite: bool = False) -> None:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise RunFolderError(f"{out}: cannot create the run folder ({exc.strerror})") from None
-    fd = _lock(out)
+    fd = lock_folder(out)
     entries = [e for e in out.iterdir() if e.name != LOCK]
     names = {e.name for e in entries}
     try:

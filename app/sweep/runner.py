@@ -1,0 +1,102 @@
+"""The sweep driver: every run of a spec as its own Ray task, results as they finish.
+
+Each task runs in a fresh worker process (``max_calls=1``), so no two runs share a
+PyBullet client or a py_trees blackboard. A run is complete when its ``metrics.json``
+exists, was not interrupted and carries its entry's hash (``sweep_key``); a new start of the
+sweep skips complete runs. A failed run is recorded with its error and the others go on.
+SIGINT or SIGTERM cancels what is still running (each such run writes its interrupted
+report) and the report covers what finished.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from app.core.checkpoint import atomic_write_bytes
+from app.core.run_folder import lock_folder
+from app.sweep.spec import Run
+from app.sweep.worker import execute
+
+CANCEL_WAIT_S = 60.0   # how long cancelled runs get to write their interrupted reports
+
+
+def complete(folder: Path, run: Run) -> dict[str, Any] | None:
+    """The metrics of ``run`` in ``folder`` when it finished there, else None."""
+    try:
+        metrics = json.loads((folder / "metrics.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    ok = isinstance(metrics, dict) and not metrics.get("interrupted")
+    return metrics if ok and metrics.get("sweep_key") == run.key else None
+
+
+def _task(run: Run, folder: str, collect: bool) -> dict[str, Any]:
+    return execute(run, Path(folder), collect)
+
+
+def sweep(runs: list[Run], out: Path, *, address: str | None, cpus_per_run: float,
+          worker_dir: Path | None = None, progress: bool = True
+          ) -> tuple[list[dict[str, Any]], BaseException | None]:
+    """Run what is not complete yet; return one row per run (``run``, ``metrics`` or
+    ``error``) and the interrupt that stopped the sweep (None when it ran to its end)."""
+    import ray  # heavy: only a sweep pays for it
+
+    out.mkdir(parents=True, exist_ok=True)
+    lock = lock_folder(out)
+    rows = {r.name: {"run": r, "metrics": complete(out / r.name, r)} for r in runs}
+    todo = [r for r in runs if rows[r.name]["metrics"] is None]
+    interrupt: BaseException | None = None
+    try:
+        if todo:
+            ray.init(address=address, include_dashboard=False, log_to_driver=False,
+                     configure_logging=False)
+            task = ray.remote(max_calls=1)(_task)
+            pending = {task.options(num_cpus=cpus_per_run).remote(
+                r, str((worker_dir or out) / r.name), worker_dir is not None): r for r in todo}
+            with tqdm(total=len(runs), initial=len(runs) - len(todo), unit="run",
+                      disable=None if progress else True) as bar:
+                try:
+                    _collect(pending, rows, out, worker_dir is not None, bar)
+                except KeyboardInterrupt as exc:
+                    interrupt = exc
+                    for ref in pending:   # each run stops as at Ctrl-C: its report is written
+                        ray.cancel(ref)
+                    ray.wait(list(pending), num_returns=len(pending), timeout=CANCEL_WAIT_S)
+    finally:
+        if ray.is_initialized():
+            ray.shutdown()
+        os.close(lock)
+    return list(rows.values()), interrupt
+
+
+def _collect(pending: dict[Any, Run], rows: dict[str, dict[str, Any]], out: Path,
+             collect: bool, bar: tqdm) -> None:
+    """Take results as runs finish (``ray.wait``), until none is pending."""
+    import ray
+
+    while pending:
+        ready, _ = ray.wait(list(pending), num_returns=1)
+        for ref in ready:
+            run = pending.pop(ref)
+            try:
+                result = ray.get(ref)
+            except Exception as exc:   # the run failed: record why, the others go on
+                rows[run.name]["error"] = _one_line(exc)
+            else:
+                rows[run.name]["metrics"] = result["metrics"]
+                if collect:   # the worker's disk is not ours: keep its report here
+                    folder = out / run.name
+                    atomic_write_bytes(folder / "events.jsonl", result["events"].encode())
+                    atomic_write_bytes(folder / "metrics.json",
+                                       json.dumps(result["metrics"], indent=2).encode())
+            bar.update()
+
+
+def _one_line(exc: BaseException) -> str:
+    cause = getattr(exc, "cause", None) or exc
+    return " ".join(f"{type(cause).__name__}: {cause}".split())[:500]

@@ -1,0 +1,122 @@
+"""The sweep spec: a validated YAML file naming what to run (docs/sweeps.md).
+
+The smallest spec is ``{worlds: [worlds/a.yaml], seeds: [0, 1], duration: 60}``. Lists of
+``worlds``, ``seeds``, ``personalities`` and ``policies`` (``null``: the scenario's or the
+shipped one) and an optional ``faults`` file make a grid, every combination once; or
+``runs:`` lists the entries one by one. ``checks`` are bounds on metrics each run must
+meet (``{rsr: {min: 0.99}}``). Paths are relative to the spec file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from pydantic import Field, model_validator
+
+from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
+from app.core.limits import MAX_DURATION_S, SEED_MAX
+
+GRID_KEYS = {"world": "worlds", "personality": "personalities", "policy": "policies",
+             "faults": "faults"}
+
+
+class Bounds(StrictModel):
+    """What a metric must stay within."""
+
+    min: float | None = None
+    max: float | None = None
+
+
+class RunEntry(StrictModel):
+    """One run of the explicit ``runs:`` list."""
+
+    world: Path
+    seed: int = Field(default=0, ge=0, le=SEED_MAX)
+    duration: float | None = Field(default=None, gt=0, le=MAX_DURATION_S)
+    personality: Path | None = None
+    policy: Path | None = None
+    faults: Path | None = None
+
+
+class SweepSpec(StrictModel):
+    """A sweep: a grid over lists, or an explicit list of runs."""
+
+    worlds: tuple[Path, ...] = ()
+    seeds: tuple[int, ...] = Field(default=(0,), min_length=1)
+    duration: float | None = Field(default=None, gt=0, le=MAX_DURATION_S)
+    personalities: tuple[Path | None, ...] = (None,)
+    policies: tuple[Path | None, ...] = (None,)
+    faults: Path | None = None
+    runs: tuple[RunEntry, ...] = ()
+    checks: dict[str, Bounds] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _something(self) -> SweepSpec:
+        if bool(self.worlds) == bool(self.runs):
+            raise ValueError("give either `worlds` (a grid) or `runs` (a list), not both")
+        if any(not 0 <= s <= SEED_MAX for s in self.seeds):
+            raise ValueError(f"seeds must lie between 0 and {SEED_MAX}")
+        return self
+
+
+@dataclass(frozen=True)
+class Run:
+    """One run of a sweep, with absolute paths."""
+
+    world: str
+    seed: int
+    duration: float | None
+    personality: str | None
+    policy: str | None
+    faults: str | None
+
+    @property
+    def key(self) -> str:
+        """A short hash of the entry: its folder name and the mark of its metrics."""
+        text = json.dumps(asdict(self), sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()[:12]
+
+    @property
+    def name(self) -> str:
+        """The run's folder name: world, seed and the entry's hash."""
+        return f"{Path(self.world).stem}-seed{self.seed}-{self.key}"
+
+    def option(self) -> str:
+        """What this run compares beyond its world and seed (personality, policy, faults)."""
+        parts = [f"{k}={Path(v).stem}" for k, v in (("personality", self.personality),
+                                                    ("policy", self.policy),
+                                                    ("faults", self.faults)) if v]
+        return ", ".join(parts) or "default"
+
+
+def _absolute(base: Path, path: Path | None) -> str | None:
+    return None if path is None else str((base / path).resolve())
+
+
+def load_sweep(path: str | Path) -> tuple[SweepSpec, list[Run]]:
+    """The spec at ``path`` and its runs; missing files are named by key."""
+    path = Path(path)
+    spec = validate(SweepSpec, read_yaml(path), str(path))
+    base = path.parent
+    entries = spec.runs or [RunEntry(world=w, seed=s, duration=spec.duration, personality=pe,
+                                     policy=po, faults=spec.faults)
+                            for w, s, pe, po in itertools.product(
+                                spec.worlds, spec.seeds, spec.personalities, spec.policies)]
+    runs, problems = [], []
+    for i, e in enumerate(entries):
+        run = Run(_absolute(base, e.world), e.seed, e.duration,  # type: ignore[arg-type]
+                  _absolute(base, e.personality), _absolute(base, e.policy),
+                  _absolute(base, e.faults))
+        for key in ("world", "personality", "policy", "faults"):
+            value = getattr(run, key)
+            if value is not None and not Path(value).is_file():
+                where = f"runs[{i}].{key}" if spec.runs else GRID_KEYS[key]
+                problems.append(f"{where}: file not found: {value}")
+        runs.append(run)
+    if problems:
+        raise ConfigError(str(path), sorted(set(problems)))
+    return spec, list(dict.fromkeys(runs))
