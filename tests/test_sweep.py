@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
+from test_training_resume import tiny
 
 from app.cli import main
 
@@ -107,3 +108,21 @@ def test_a_sweep_joins_a_running_ray_head(tmp_path, ray_head):
     assert json.loads(events[-1])["kind"] == "run_finished"   # collected through Ray
     assert (tmp_path / "workers" / name / "timeline.csv").exists()
     shutil.rmtree(tmp_path / "workers")
+
+
+def test_dqn_trainings_over_seeds_are_summarised_against_the_rule(tmp_path):
+    config = tiny(tmp_path)
+    path = tmp_path / "train.yaml"
+    path.write_text(f"train_policy: {{config: {config.name}, seeds: [0, 1], episodes: 2}}\n")
+    out = tmp_path / "out"
+    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--no-progress"],
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+    table = rows(out)
+    assert sorted(r["seed"] for r in table.values()) == ["0", "1"]
+    for r in table.values():
+        assert 0 <= float(r["rsr"]) <= 1 and r["reward_margin"] and not r["error"]
+        assert (out / r["name"] / "policy.pt").is_file()
+    summary = (out / "summary.md").read_text()
+    assert "| dqn_training | default | 2/2 |" in summary
+    assert "reward margin over the rule" in summary

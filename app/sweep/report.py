@@ -22,13 +22,23 @@ from scipy import stats
 from app.core.checkpoint import atomic_write, atomic_write_bytes
 from app.sweep.spec import Bounds
 
-HEADLINE = {"rsr": "RSR", "mood_positive_share": "positive mood share",
-            "answered_share": "lines answered ≤ 15 s", "found_share": "find people found",
-            "peak_rss_mb": "peak resident MB", "wall_s": "wall s"}
+HOUSEHOLD = {"rsr": "RSR", "mood_positive_share": "positive mood share",
+             "answered_share": "lines answered ≤ 15 s", "found_share": "find people found",
+             "peak_rss_mb": "peak resident MB", "wall_s": "wall s"}
+TRAINING = {"rsr": "DQN RSR", "rule_rsr": "rule RSR", "mean_reward": "DQN reward",
+            "reward_margin": "reward margin over the rule", "peak_rss_mb": "peak resident MB",
+            "wall_s": "wall s"}
+
+
+def headline(flat: list[dict[str, Any]]) -> dict[str, str]:
+    """The metrics the summary reports: a training sweep's or a household sweep's."""
+    return TRAINING if any("reward_margin" in r for r in flat) else HOUSEHOLD
 
 
 def _derived(m: dict[str, Any]) -> dict[str, float | None]:
-    heard, tries = m.get("lines_heard") or 0, m.get("find_people_tries") or 0
+    if "lines_heard" not in m:
+        return {}
+    heard, tries = m["lines_heard"], m["find_people_tries"]
     return {"answered_share": m["lines_answered"] / heard if heard else None,
             "found_share": m["find_people_found"] / tries if tries else None}
 
@@ -63,8 +73,9 @@ def mean_ci(values: list[float]) -> tuple[float, float]:
     return mean, float(half)
 
 
-def summarise(flat: list[dict[str, Any]]) -> dict[tuple[str, str], dict[str, Any]]:
-    """Per (world, option): runs and (mean, CI half-width) of each headline metric."""
+def summarise(flat: list[dict[str, Any]], metrics: dict[str, str]
+              ) -> dict[tuple[str, str], dict[str, Any]]:
+    """Per (world, option): runs and (mean, CI half-width) of each of ``metrics``."""
     groups: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
     for r in flat:
         groups[r["world"], r["option"]].append(r)
@@ -72,7 +83,7 @@ def summarise(flat: list[dict[str, Any]]) -> dict[tuple[str, str], dict[str, Any
     for key, rows in sorted(groups.items()):
         done = [r for r in rows if not r["error"] and "rsr" in r]
         cells = {}
-        for metric in HEADLINE:
+        for metric in metrics:
             values = [float(r[metric]) for r in done if r.get(metric) is not None]
             cells[metric] = mean_ci(values) if values else None
         out[key] = {"runs": len(rows), "done": len(done), **cells}
@@ -89,22 +100,24 @@ def write_report(rows: list[dict[str, Any]], checks: dict[str, Bounds], out: Pat
     writer.writeheader()
     writer.writerows(flat)
     atomic_write_bytes(out / "sweep.csv", text.getvalue().encode())
-    summary = summarise(flat)
-    md = _markdown(summary, flat, interrupted)
+    metrics = headline(flat)
+    summary = summarise(flat, metrics)
+    md = _markdown(summary, flat, metrics, interrupted)
     atomic_write_bytes(out / "summary.md", md.encode())
-    _plots(summary, out / "plots")
+    _plots(summary, metrics, out / "plots")
     return md
 
 
-def _markdown(summary: dict, flat: list[dict[str, Any]], interrupted: str | None) -> str:
+def _markdown(summary: dict, flat: list[dict[str, Any]], metrics: dict[str, str],
+              interrupted: str | None) -> str:
     lines = ["# Sweep summary", "",
              "Mean ± half-width of the 95 % confidence interval (Student t) over seeds.", ""]
     if interrupted:
         lines += [f"**Interrupted by {interrupted}**: runs not finished are missing.", ""]
-    lines += ["| world | option | runs done | " + " | ".join(HEADLINE.values()) + " |",
-              "|---|---|---|" + "---|" * len(HEADLINE)]
+    lines += ["| world | option | runs done | " + " | ".join(metrics.values()) + " |",
+              "|---|---|---|" + "---|" * len(metrics)]
     for (world, option), s in summary.items():
-        cells = ["-" if s[m] is None else f"{s[m][0]:.3g} ± {s[m][1]:.2g}" for m in HEADLINE]
+        cells = ["-" if s[m] is None else f"{s[m][0]:.4g} ± {s[m][1]:.2g}" for m in metrics]
         lines.append(f"| {world} | {option} | {s['done']}/{s['runs']} | " + " | ".join(cells)
                      + " |")
     bad = [r for r in flat if r["error"] or r["checks_failed"]]
@@ -115,16 +128,16 @@ def _markdown(summary: dict, flat: list[dict[str, Any]], interrupted: str | None
     return "\n".join(lines) + "\n"
 
 
-def _plots(summary: dict, folder: Path) -> None:
+def _plots(summary: dict, metrics: dict[str, str], folder: Path) -> None:
     folder.mkdir(parents=True, exist_ok=True)
     labels = [f"{w}\n{o}" for w, o in summary]
-    for metric in ("rsr", "found_share", "answered_share", "mood_positive_share"):
+    for metric in [m for m in metrics if m not in ("peak_rss_mb", "wall_s")]:
         cells = [s[metric] for s in summary.values()]
         fig, ax = plt.subplots(figsize=(max(4, 1.2 * len(labels)), 3.5))
         ax.bar(range(len(labels)), [c[0] if c else 0 for c in cells],
                yerr=[c[1] if c else 0 for c in cells], capsize=4)
         ax.set_xticks(range(len(labels)), labels, fontsize=7)
-        ax.set_ylabel(HEADLINE[metric])
+        ax.set_ylabel(metrics[metric])
         fig.tight_layout()
         atomic_write(folder / f"{metric}.png", lambda fh, f=fig: f.savefig(fh, format="png"))
         plt.close(fig)

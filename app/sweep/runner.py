@@ -19,13 +19,13 @@ from tqdm import tqdm
 
 from app.core.checkpoint import atomic_write_bytes
 from app.core.run_folder import lock_folder
-from app.sweep.spec import Run
-from app.sweep.worker import execute
+from app.sweep.spec import Run, TrainRun
+from app.sweep.worker import execute, execute_training
 
 CANCEL_WAIT_S = 60.0   # how long cancelled runs get to write their interrupted reports
 
 
-def complete(folder: Path, run: Run) -> dict[str, Any] | None:
+def complete(folder: Path, run: Run | TrainRun) -> dict[str, Any] | None:
     """The metrics of ``run`` in ``folder`` when it finished there, else None."""
     try:
         metrics = json.loads((folder / "metrics.json").read_text(encoding="utf-8"))
@@ -35,11 +35,13 @@ def complete(folder: Path, run: Run) -> dict[str, Any] | None:
     return metrics if ok and metrics.get("sweep_key") == run.key else None
 
 
-def _task(run: Run, folder: str, collect: bool) -> dict[str, Any]:
+def _task(run: Run | TrainRun, folder: str, collect: bool) -> dict[str, Any]:
+    if isinstance(run, TrainRun):
+        return execute_training(run, Path(folder))
     return execute(run, Path(folder), collect)
 
 
-def sweep(runs: list[Run], out: Path, *, address: str | None, cpus_per_run: float,
+def sweep(runs: list[Run | TrainRun], out: Path, *, address: str | None, cpus_per_run: float,
           worker_dir: Path | None = None, progress: bool = True
           ) -> tuple[list[dict[str, Any]], BaseException | None]:
     """Run what is not complete yet; return one row per run (``run``, ``metrics`` or
@@ -74,7 +76,7 @@ def sweep(runs: list[Run], out: Path, *, address: str | None, cpus_per_run: floa
     return list(rows.values()), interrupt
 
 
-def _collect(pending: dict[Any, Run], rows: dict[str, dict[str, Any]], out: Path,
+def _collect(pending: dict[Any, Run | TrainRun], rows: dict[str, dict[str, Any]], out: Path,
              collect: bool, bar: tqdm) -> None:
     """Take results as runs finish (``ray.wait``), until none is pending."""
     import ray

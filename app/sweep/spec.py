@@ -42,8 +42,19 @@ class RunEntry(StrictModel):
     faults: Path | None = None
 
 
+class TrainSweep(StrictModel):
+    """DQN trainings over seeds (``train_policy:``), each then tested against the
+    homeostatic rule on the same ``episodes`` (seeded by ``eval_seed``)."""
+
+    config: Path | None = None
+    personality: Path | None = None
+    seeds: tuple[int, ...] = Field(min_length=1)
+    episodes: int = Field(default=100, ge=1, le=100_000)
+    eval_seed: int = Field(default=0, ge=0, le=SEED_MAX)
+
+
 class SweepSpec(StrictModel):
-    """A sweep: a grid over lists, or an explicit list of runs."""
+    """A sweep: a grid over lists, an explicit list of runs, or trainings over seeds."""
 
     worlds: tuple[Path, ...] = ()
     seeds: tuple[int, ...] = Field(default=(0,), min_length=1)
@@ -52,12 +63,14 @@ class SweepSpec(StrictModel):
     policies: tuple[Path | None, ...] = (None,)
     faults: Path | None = None
     runs: tuple[RunEntry, ...] = ()
+    train_policy: TrainSweep | None = None
     checks: dict[str, Bounds] = Field(default_factory=dict)
 
     @model_validator(mode="after")
     def _something(self) -> SweepSpec:
-        if bool(self.worlds) == bool(self.runs):
-            raise ValueError("give either `worlds` (a grid) or `runs` (a list), not both")
+        if sum((bool(self.worlds), bool(self.runs), self.train_policy is not None)) != 1:
+            raise ValueError("give one of `worlds` (a grid), `runs` (a list) or "
+                             "`train_policy` (trainings over seeds)")
         if any(not 0 <= s <= SEED_MAX for s in self.seeds):
             raise ValueError(f"seeds must lie between 0 and {SEED_MAX}")
         return self
@@ -93,15 +106,44 @@ class Run:
         return ", ".join(parts) or "default"
 
 
+@dataclass(frozen=True)
+class TrainRun:
+    """One DQN training of a sweep, with absolute paths."""
+
+    config: str | None
+    personality: str | None
+    seed: int
+    episodes: int
+    eval_seed: int
+    world = "dqn_training"   # the report's group
+
+    key = Run.key
+    option = Run.option
+
+    @property
+    def name(self) -> str:
+        """The training's folder name: seed and the entry's hash."""
+        return f"train-policy-seed{self.seed}-{self.key}"
+
+    @property
+    def policy(self) -> None:
+        """Trainings compare no policy file."""
+        return None
+
+    faults = policy
+
+
 def _absolute(base: Path, path: Path | None) -> str | None:
     return None if path is None else str((base / path).resolve())
 
 
-def load_sweep(path: str | Path) -> tuple[SweepSpec, list[Run]]:
+def load_sweep(path: str | Path) -> tuple[SweepSpec, list[Run | TrainRun]]:
     """The spec at ``path`` and its runs; missing files are named by key."""
     path = Path(path)
     spec = validate(SweepSpec, read_yaml(path), str(path))
     base = path.parent
+    if spec.train_policy is not None:
+        return spec, _trainings(spec.train_policy, base, str(path))
     entries = spec.runs or [RunEntry(world=w, seed=s, duration=spec.duration, personality=pe,
                                      policy=po, faults=spec.faults)
                             for w, s, pe, po in itertools.product(
@@ -120,3 +162,14 @@ def load_sweep(path: str | Path) -> tuple[SweepSpec, list[Run]]:
     if problems:
         raise ConfigError(str(path), sorted(set(problems)))
     return spec, list(dict.fromkeys(runs))
+
+
+def _trainings(t: TrainSweep, base: Path, source: str) -> list[Run | TrainRun]:
+    config, personality = _absolute(base, t.config), _absolute(base, t.personality)
+    problems = [f"train_policy.{key}: file not found: {value}"
+                for key, value in (("config", config), ("personality", personality))
+                if value is not None and not Path(value).is_file()]
+    if problems:
+        raise ConfigError(source, problems)
+    return list(dict.fromkeys(TrainRun(config, personality, s, t.episodes, t.eval_seed)
+                              for s in t.seeds))
