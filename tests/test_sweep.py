@@ -30,7 +30,7 @@ def spec(tmp_path: Path, text: str) -> Path:
 
 
 @pytest.mark.parametrize(("text", "message"), [
-    ("worlds: [WORLD]\nruns: [{world: WORLD}]\n", "give either `worlds` (a grid) or `runs`"),
+    ("worlds: [WORLD]\nruns: [{world: WORLD}]\n", "give one of `worlds` (a grid), `runs` (a list)"),
     ("worlds: [nowhere.yaml]\n", "worlds: file not found:"),
     ("runs: [{world: WORLD, seed: -1}]\n", "runs[0].seed: Input should be greater than"),
     ("worlds: [WORLD]\nduration: .inf\n", "duration: Input should be a finite number"),
