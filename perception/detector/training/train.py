@@ -91,10 +91,19 @@ def export_onnx(weights: Path, dst: Path, imgsz: int) -> Path:
     return dst
 
 
+def _image(path: Path) -> Any:
+    """The BGR image at ``path``; an unreadable one is named."""
+    image = cv2.imread(str(path))
+    if image is None:
+        raise UserError(f"{path}: not a readable image; render the data set again with "
+                        "`companion data detector`")
+    return image
+
+
 def latency_ms(detector: YoloDetector, frames: list[Path], repeats: int = 100) -> float:
     """Median wall time (ms) of one ``detect`` call over ``repeats`` calls on these frames
     (after two warm-up calls)."""
-    images = [cv2.cvtColor(cv2.imread(str(f)), cv2.COLOR_BGR2RGB) for f in frames]
+    images = [cv2.cvtColor(_image(f), cv2.COLOR_BGR2RGB) for f in frames]
     for img in images[:2]:
         detector.detect(img)
     times = []
