@@ -81,9 +81,9 @@ def test_a_killed_driver_redoes_nothing_and_a_failed_run_is_recorded(tmp_path):
         "answered_share.png", "found_share.png", "mood_positive_share.png", "rsr.png"]
 
 
-@pytest.fixture
-def ray_head(tmp_path):
-    """A Ray head on loopback (2 CPUs), stopped afterwards."""
+@pytest.fixture(scope="module")
+def ray_head():
+    """A Ray head on loopback (2 CPUs), shared by the tests that join it, stopped after."""
     env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
     started = subprocess.run([RAY, "start", "--head", "--node-ip-address=127.0.0.1",
                               "--port=0", "--num-cpus=2", "--include-dashboard=false",
@@ -110,13 +110,13 @@ def test_a_sweep_joins_a_running_ray_head(tmp_path, ray_head):
     shutil.rmtree(tmp_path / "workers")
 
 
-def test_dqn_trainings_over_seeds_are_summarised_against_the_rule(tmp_path):
+def test_dqn_trainings_over_seeds_are_summarised_against_the_rule(tmp_path, ray_head):
     config = tiny(tmp_path)
     path = tmp_path / "train.yaml"
     path.write_text(f"train_policy: {{config: {config.name}, seeds: [0, 1], episodes: 2}}\n")
     out = tmp_path / "out"
-    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--no-progress"],
-                          capture_output=True, text=True, timeout=900)
+    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--address", "auto",
+                           "--no-progress"], capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr
     table = rows(out)
     assert sorted(r["seed"] for r in table.values()) == ["0", "1"]

@@ -93,7 +93,8 @@ def _collect(pending: dict[Any, Run | TrainRun], rows: dict[str, dict[str, Any]]
                 rows[run.name]["metrics"] = result["metrics"]
                 if collect:   # the worker's disk is not ours: keep its report here
                     folder = out / run.name
-                    atomic_write_bytes(folder / "events.jsonl", result["events"].encode())
+                    if result["events"] is not None:
+                        atomic_write_bytes(folder / "events.jsonl", result["events"].encode())
                     atomic_write_bytes(folder / "metrics.json",
                                        json.dumps(result["metrics"], indent=2).encode())
             bar.update()
