@@ -110,9 +110,9 @@ def test_living_room_timeline(client):
     assert math.hypot(tom.x - grace.x, tom.y - grace.y) == pytest.approx(0.7, abs=0.01)
     assert tom.yaw == pytest.approx(math.atan2(grace.y - tom.y, grace.x - tom.x), abs=1e-6)
 
-    run(world, 520.0, start=450.0)  # left at 510
+    run(world, 520.0, start=450.0)  # left at 510: his body waits far outside for a return
     assert "Tom" not in world.people_positions()
-    assert p.getNumBodies(physicsClientId=client) == bodies
+    assert p.getNumBodies(physicsClientId=client) == bodies + 1
 
 
 def test_step_size_does_not_change_the_story(client):
@@ -130,17 +130,21 @@ def test_step_size_does_not_change_the_story(client):
         p.disconnect(fine_client)
 
 
-def test_re_entering_person_gets_a_new_body(client):
+def test_re_entering_person_reuses_their_body(client):
+    """A person who leaves waits far outside the house and comes back in the same body
+    (PyBullet never frees a shape, so new bodies would grow memory in long runs)."""
     world = build("birthday_party", client)
     run(world, 430.0)
     first = world.people["Anna"]
+    bodies = p.getNumBodies(physicsClientId=client)
     run(world, 440.0, start=430.0)
     assert "Anna" not in world.people
+    assert min(first.x, first.y) < -100   # out of every sensor's reach
     run(world, 530.0, start=440.0)
     anna = world.people_positions()["Anna"]
     assert (anna.x, anna.y) == pytest.approx((5.0, 3.4))
     assert anna.yaw == pytest.approx(math.pi)
-    assert world.people["Anna"] is not first and first.body_id == -1
+    assert world.people["Anna"] is first and p.getNumBodies(physicsClientId=client) == bodies
 
 
 def test_pose_events_change_the_body(client):

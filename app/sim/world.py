@@ -27,6 +27,7 @@ from app.sim.scenario import Event, Scenario, load_scenario
 
 Rgb = tuple[float, float, float]
 WALL_THICKNESS = 0.1
+PARK_X, PARK_Y = -1000.0, -1000.0   # where the bodies of people who left wait (m)
 DOOR_HEIGHT = 2.05
 GROUND = (0.45, 0.47, 0.45, 1.0)  # outside the rooms
 CEILING: Rgb = (0.96, 0.96, 0.94)
@@ -294,6 +295,7 @@ class World:
         self.people: dict[str, Person] = {}
         self._specs = {person.name: person for person in scenario.people}
         self._walks: dict[str, _Walk] = {}
+        self._parked: dict[str, Person] = {}   # bodies of people who left, kept for their return
         self._untouchable: list[int] = []    # bodies people pass through (the robot)
         self._footprints: list[Footprint] = []
         self._tops: dict[str, float] = {}
@@ -439,12 +441,26 @@ class World:
     # -- people and the timeline ----------------------------------------------------------------
 
     def _spawn(self, name: str, x: float, y: float, yaw: float, pose: str = "standing") -> None:
+        if name in self._parked:   # back again: the same body (PyBullet never frees a shape)
+            person = self.people[name] = self._parked.pop(name)
+            person.set_pose(pose)  # type: ignore[arg-type]
+            person.place(x, y, yaw)
+            return
         b = self._specs[name].body
         look = Appearance(b.height, b.width, rgb(b.shirt), rgb(b.trousers), rgb(b.skin),
                           rgb(b.hair))
         self.people[name] = Person(self.client, look, x, y, yaw, pose, name)  # type: ignore[arg-type]
         for body in self._untouchable:
             self._no_contacts(self.people[name].body_id, body)
+
+    def _park(self, name: str) -> None:
+        """Take ``name`` out of the house: their body waits far outside it, out of every
+        sensor's reach, for their next entrance (a new body each time would leak memory:
+        PyBullet keeps every shape it ever made)."""
+        person = self.people.pop(name)
+        self._walks.pop(name, None)
+        person.place(PARK_X - 5.0 * len(self._parked), PARK_Y, 0.0)
+        self._parked[name] = person
 
     def pass_through(self, body: int) -> None:
         """People, present and to come, make no contacts with ``body`` (the robot): they are
@@ -491,8 +507,7 @@ class World:
                     else Pose2D(e.enter.x, e.enter.y, math.radians(e.enter.yaw)))  # type: ignore[arg-type]
             self._spawn(name, spot.x, spot.y, spot.yaw)
         elif e.leave is not None:
-            self.people.pop(name).remove()
-            self._walks.pop(name, None)
+            self._park(name)
         elif e.walk_to is not None:
             here = self._where(name, t)
             goal = (e.walk_to.x, e.walk_to.y)
@@ -530,10 +545,8 @@ class World:
 
     def _restart_people(self) -> None:
         """Everyone back to their start (absent ones gone): a looping timeline's new cycle."""
-        for person in self.people.values():
-            person.remove()
-        self.people.clear()
-        self._walks.clear()
+        for name in list(self.people):
+            self._park(name)
         for spec in self.scenario.people:
             if spec.start is not None:
                 self._spawn(spec.name, spec.start.x, spec.start.y, math.radians(spec.start.yaw),
@@ -578,8 +591,7 @@ class World:
         """Remove the body ``name`` (a dropped box) or the person ``name`` at once; their
         later timeline events are skipped."""
         if name in self.people:
-            self.people.pop(name).remove()
-            self._walks.pop(name, None)
+            self._park(name)
         else:
             p.removeBody(self.bodies.pop(name), physicsClientId=self.client)
 
