@@ -54,9 +54,9 @@ class Fault(StrictModel):
             raise ValueError(f"joint_failure needs `joint`, one of {', '.join(JOINT_NAMES)}")
         return self
 
-    def active(self, t: float) -> bool:
-        """Whether the fault lasts at simulated time ``t``."""
-        return self.at <= t and (self.for_s is None or t < self.at + self.for_s)
+    def lasts(self, since: float, t: float) -> bool:
+        """Whether the fault, started at ``since``, still lasts at simulated time ``t``."""
+        return since <= t and (self.for_s is None or t < since + self.for_s)
 
 
 class FaultSpec(StrictModel):
@@ -95,13 +95,14 @@ class FaultInjector:
 
     def __init__(self, spec: FaultSpec, sim: Simulation, events: EventLog) -> None:
         self.spec, self.sim, self.events = spec, sim, events
-        self._started: set[int] = set()
+        self._started: dict[int, float] = {}   # fault index -> when it really started
         self._ended: set[int] = set()
         self._vanish_pending: list[int] = []
 
     def active(self, kind: str, t: float) -> bool:
         """Whether a fault of ``kind`` lasts at ``t``."""
-        return any(f.kind == kind and f.active(t) for f in self.spec.faults)
+        return any(self.spec.faults[i].kind == kind and self.spec.faults[i].lasts(since, t)
+                   and i not in self._ended for i, since in self._started.items())
 
     def has(self, kind: str) -> bool:
         """Whether the spec holds a fault of ``kind``."""
@@ -112,7 +113,7 @@ class FaultInjector:
         without it (chit-chat lines get its "can't chat now" reply)."""
         for i, f in enumerate(self.spec.faults):
             if f.kind == "speech_model_missing":
-                self._started.add(i)
+                self._started[i] = 0.0
                 self.events.emit("fault_injected", fault=f.kind)
                 dialogue.chitchat = None
                 self.events.emit("fault", fault=f.kind, error="the chit-chat model did not load",
@@ -121,15 +122,19 @@ class FaultInjector:
 
     def apply(self, t: float, action: str | None) -> None:
         """Start and end the faults due at ``t``; ``action`` is the robot's running one
-        (a person vanishes only while the robot is finding people)."""
+        (a person vanishes only while the robot is finding people; a box lands on the dock
+        only while the robot is off it). A lasting fault lasts ``for_s`` from its start."""
         for i, f in enumerate(self.spec.faults):
             if i not in self._started and t >= f.at:
-                self._started.add(i)
+                if f.kind == "dock_blocked" and self.sim.robot.charging:
+                    continue   # a box can't land on the docked robot: wait until it leaves
+                self._started[i] = t
                 if f.kind == "person_vanishes":
                     self._vanish_pending.append(i)
                 else:
                     self._start(f)
-            elif i in self._started and i not in self._ended and not f.active(t):
+            elif i in self._started and i not in self._ended \
+                    and not f.lasts(self._started[i], t):
                 self._ended.add(i)
                 self._end(f)
         if self._vanish_pending and action == "find_people":
