@@ -104,10 +104,6 @@ class FaultInjector:
         return any(self.spec.faults[i].kind == kind and self.spec.faults[i].lasts(since, t)
                    and i not in self._ended for i, since in self._started.items())
 
-    def has(self, kind: str) -> bool:
-        """Whether the spec holds a fault of ``kind``."""
-        return any(f.kind == kind for f in self.spec.faults)
-
     def at_load(self, dialogue: Any) -> None:
         """Faults of the robot's start: the chit-chat model missing. The dialogue goes on
         without it (chit-chat lines get its "can't chat now" reply)."""

@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import signal
 import sys
 from pathlib import Path
 
@@ -89,6 +88,7 @@ def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
     from app.core.errors import UserError
     from app.core.run_folder import default_folder
+    from app.core.signals import status_of
     from app.faults import load_faults
     from app.run import prepare_scenario, run_scenario
 
@@ -101,7 +101,7 @@ def run_command(args: argparse.Namespace) -> int:
     metrics = run_scenario(scenario, out, gui=args.gui, progress=not args.no_progress,
                            policy_path=args.policy, behaviour_config=args.behaviour,
                            audio=args.audio, overwrite=args.overwrite, faults=faults)
-    status = 128 + getattr(signal, metrics["interrupted_by"]) if metrics["interrupted"] else 0
+    status = status_of(metrics["interrupted_by"])
     if args.json:
         print(json.dumps(metrics))
     else:

@@ -37,9 +37,12 @@ def terminable() -> Iterator[None]:
 
 def exit_status(interrupt: BaseException | None) -> int:
     """0 without an interrupt, 143 for SIGTERM, 130 for SIGINT."""
-    if interrupt is None:
-        return 0
-    return 128 + getattr(signal, signal_name(interrupt))
+    return 0 if interrupt is None else status_of(signal_name(interrupt))
+
+
+def status_of(name: str | None) -> int:
+    """The shell's exit status for the signal called ``name`` (0 for None)."""
+    return 0 if name is None else 128 + getattr(signal, name)
 
 
 @contextlib.contextmanager

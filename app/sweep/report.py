@@ -51,7 +51,7 @@ def flat_row(row: dict[str, Any], checks: dict[str, Bounds]) -> dict[str, Any]:
     if m:
         out.update({k: v for k, v in m.items() if isinstance(v, (int, float, str, bool))})
         out.update(_derived(m))
-    failed = [f"{k}" for k, b in checks.items() if m and not _within(m.get(k), b)]
+    failed = [k for k, b in checks.items() if m and not _within(m.get(k), b)]
     out["checks_failed"] = " ".join(failed)
     return out
 

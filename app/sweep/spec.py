@@ -76,8 +76,29 @@ class SweepSpec(StrictModel):
         return self
 
 
+class Entry:
+    """What every sweep entry (a dataclass) shares: its hash and the option it compares."""
+
+    personality: str | None
+    policy: str | None = None
+    faults: str | None = None
+
+    @property
+    def key(self) -> str:
+        """A short hash of the entry: its folder name and the mark of its metrics."""
+        text = json.dumps(asdict(self), sort_keys=True)  # type: ignore[call-overload]
+        return hashlib.sha256(text.encode()).hexdigest()[:12]
+
+    def option(self) -> str:
+        """What this entry compares beyond its world and seed (personality, policy, faults)."""
+        parts = [f"{k}={Path(v).stem}" for k, v in (("personality", self.personality),
+                                                    ("policy", self.policy),
+                                                    ("faults", self.faults)) if v]
+        return ", ".join(parts) or "default"
+
+
 @dataclass(frozen=True)
-class Run:
+class Run(Entry):
     """One run of a sweep, with absolute paths."""
 
     world: str
@@ -88,27 +109,14 @@ class Run:
     faults: str | None
 
     @property
-    def key(self) -> str:
-        """A short hash of the entry: its folder name and the mark of its metrics."""
-        text = json.dumps(asdict(self), sort_keys=True)
-        return hashlib.sha256(text.encode()).hexdigest()[:12]
-
-    @property
     def name(self) -> str:
         """The run's folder name: world, seed and the entry's hash."""
         return f"{Path(self.world).stem}-seed{self.seed}-{self.key}"
 
-    def option(self) -> str:
-        """What this run compares beyond its world and seed (personality, policy, faults)."""
-        parts = [f"{k}={Path(v).stem}" for k, v in (("personality", self.personality),
-                                                    ("policy", self.policy),
-                                                    ("faults", self.faults)) if v]
-        return ", ".join(parts) or "default"
-
 
 @dataclass(frozen=True)
-class TrainRun:
-    """One DQN training of a sweep, with absolute paths."""
+class TrainRun(Entry):
+    """One DQN training of a sweep, with absolute paths (no policy or faults file)."""
 
     config: str | None
     personality: str | None
@@ -117,20 +125,10 @@ class TrainRun:
     eval_seed: int
     world = "dqn_training"   # the report's group
 
-    key = Run.key
-    option = Run.option
-
     @property
     def name(self) -> str:
         """The training's folder name: seed and the entry's hash."""
         return f"train-policy-seed{self.seed}-{self.key}"
-
-    @property
-    def policy(self) -> None:
-        """Trainings compare no policy file."""
-        return None
-
-    faults = policy
 
 
 def _absolute(base: Path, path: Path | None) -> str | None:
