@@ -18,6 +18,10 @@ import numpy as np
 from app.core.checkpoint import atomic_write, atomic_write_bytes
 from app.core.events import LineFile
 from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+from behaviours.step_record import StepRecord
+
+TIMELINE_COLUMNS = ["t", "action", "relieving", *DRIVES, *(f"m_{m}" for m in MOTIVATIONS),
+                    *STIMULI, "mood", "mood_positive", "secure"]
 
 
 class TimelineWriter:
@@ -26,9 +30,7 @@ class TimelineWriter:
 
     def __init__(self, path: Path) -> None:
         self._file = LineFile(path)
-        self.written = 0
-        self._rows([["t", "action", "relieving", *DRIVES, *(f"m_{m}" for m in MOTIVATIONS),
-                     *STIMULI, "mood", "mood_positive", "secure"]])
+        self._rows([TIMELINE_COLUMNS])
 
     def _rows(self, rows: list[list[Any]]) -> None:
         text = io.StringIO()
@@ -36,26 +38,21 @@ class TimelineWriter:
         self._file.write(text.getvalue())
 
     def write(self, rows: list[dict[str, Any]]) -> None:
-        """Write the rows not written yet."""
-        if len(rows) > self.written:
+        """Append ``rows`` (from :meth:`behaviours.step_record.StepRecord.take`)."""
+        if rows:
             self._rows([[r["t"], r["action"], int(r["relieving"]),
                          *np.round(r["drives"], 5), *np.round(r["motivations"], 5),
                          *r["stimuli"].astype(int), round(r["mood"], 5),
-                         int(r["mood_positive"]), int(r["secure"])]
-                        for r in rows[self.written:]])
-        self.written = len(rows)
+                         int(r["mood_positive"]), int(r["secure"])] for r in rows])
 
     def close(self) -> None:
         """Close the file."""
         self._file.close()
 
 
-def compute_metrics(history: list[dict[str, Any]], events: list[dict[str, Any]]
-                    ) -> dict[str, Any]:
+def compute_metrics(steps: StepRecord, events: list[dict[str, Any]]) -> dict[str, Any]:
     """RSR, action counts and time shares, mood share and skill outcomes of one run."""
-    n = len(history)
-    secure = np.array([r["secure"] for r in history], bool)
-    seconds = Counter(r["action"] for r in history)
+    n = steps.steps
     started = Counter(e["action"] for e in events if e["kind"] == "action")
     outcomes: dict[str, Counter] = defaultdict(Counter)
     for e in events:
@@ -63,21 +60,20 @@ def compute_metrics(history: list[dict[str, Any]], events: list[dict[str, Any]]
             outcomes[e["action"]][e["status"]] += 1
     success = {a: round(c["SUCCESS"] / max(1, c["SUCCESS"] + c["FAILURE"]), 4)
                for a, c in outcomes.items()}
-    drives = np.array([r["drives"] for r in history]) if n else np.zeros((0, len(DRIVES)))
     return {
         "homeostasis_steps": n,
-        "rsr": float(secure.mean()) if n else None,
-        "insecure_steps": int((~secure).sum()),
-        "mood_positive_share": float(np.mean([r["mood_positive"] for r in history])) if n else None,
+        "rsr": steps.secure_steps / n if n else None,
+        "insecure_steps": n - steps.secure_steps,
+        "mood_positive_share": steps.mood_positive_steps / n if n else None,
         "actions_started": {a: started.get(a, 0) for a in ACTIONS},
-        "action_seconds": {a: seconds.get(a, 0) for a in ACTIONS},
+        "action_seconds": {a: steps.action_steps.get(a, 0) for a in ACTIONS},
         "skill_outcomes": {a: dict(c) for a, c in outcomes.items()},
         "skill_success_rate": success,
         "preemptions": sum(e["kind"] == "preempted" for e in events),
         "sentences_said": sum(e["kind"] == "say" for e in events),
         **interaction_metrics(events),
-        "max_drive": dict(zip(DRIVES, drives.max(axis=0).round(4).tolist(), strict=True))
-        if n else {},
+        "max_drive": dict(zip(DRIVES, steps.max_drives.round(4).tolist(), strict=True))
+        if steps.max_drives is not None else {},
     }
 
 
@@ -122,14 +118,27 @@ def write_metrics(metrics: dict[str, Any], path: Path) -> None:
     atomic_write_bytes(path, (json.dumps(metrics, indent=2) + "\n").encode())
 
 
-def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray,
-             threshold: float, out: Path) -> list[Path]:
-    """``motivations.png``, ``actions.png`` and ``mood.png`` in ``out``."""
+def read_timeline(path: Path) -> dict[str, np.ndarray]:
+    """The columns of a ``timeline.csv`` (:data:`TIMELINE_COLUMNS`): ``action`` as text,
+    the others as numbers."""
+    with path.open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    header, body = rows[0], rows[1:]
+    columns = {name: [r[i] for r in body] for i, name in enumerate(header)}
+    return {name: np.array(v) if name == "action" else np.array(v, float)
+            for name, v in columns.items()}
+
+
+def plot_run(timeline: Path, lower: np.ndarray, upper: np.ndarray, threshold: float,
+             out: Path) -> list[Path]:
+    """``motivations.png``, ``actions.png`` and ``mood.png`` in ``out``, from the run's
+    ``timeline.csv``."""
     out.mkdir(parents=True, exist_ok=True)
-    if not history:
+    series = read_timeline(timeline)
+    t = series["t"]
+    if not len(t):
         return []
-    t = np.array([r["t"] for r in history])
-    m = np.array([r["motivations"] for r in history])
+    m = np.stack([series[f"m_{name}"] for name in MOTIVATIONS], axis=1)
     paths = []
 
     fig, axes = plt.subplots(len(MOTIVATIONS), 1, figsize=(9, 10), sharex=True)
@@ -143,7 +152,7 @@ def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray
     paths.append(_save(fig, out / "motivations.png"))
 
     fig, ax = plt.subplots(figsize=(9, 3))
-    codes = np.array([ACTIONS.index(r["action"]) for r in history])
+    codes = np.array([ACTIONS.index(a) for a in series["action"]])
     for a in range(len(ACTIONS)):
         on = codes == a
         if on.any():
@@ -154,7 +163,7 @@ def plot_run(history: list[dict[str, Any]], lower: np.ndarray, upper: np.ndarray
     paths.append(_save(fig, out / "actions.png"))
 
     fig, ax = plt.subplots(figsize=(9, 3))
-    ax.plot(t, [r["mood"] for r in history], lw=1)
+    ax.plot(t, series["mood"], lw=1)
     ax.axhline(threshold, color="k", ls="--", lw=0.8, label="threshold (positive below)")
     ax.set_xlabel("simulated time (s)")
     ax.set_ylabel("v_mood")

@@ -137,7 +137,7 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
         ctx.detector = FaultyDetector(detector, injector)
         injector.at_load(dialogue)
         tree.add_pre_tick_handler(lambda _: injector.apply(
-            sim.t, ctx.history[-1]["action"] if ctx.history else None))
+            sim.t, ctx.steps.last_action))
     tree.setup()
     return HouseholdRun(scenario, sim, ctx, tree, saver, out)
 
@@ -210,7 +210,7 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
                                 "[{elapsed}]") as bar:
             for _ in range(round(scenario.duration / scenario.step)):
                 tree.tick()
-                run.timeline.write(ctx.history)
+                run.timeline.write(ctx.steps.take())
                 for e in ctx.events.events[seen:]:
                     if e["kind"] == "action":
                         frame, scene = household_scene(sim, visibility)
@@ -239,6 +239,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
     atomic_write_bytes(out / "tree.txt", (render(tree.root) + "\n\nLast tick:\n" + render(
         tree.root, show_status=True) + "\n").encode())
     tree.stop()
+    run.timeline.write(ctx.steps.take())   # the rows of a tick cut short by a signal
     run.timeline.close()
     ctx.events.emit("run_finished", interrupted=interrupt is not None)
     ctx.events.close()
@@ -246,7 +247,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
         "scenario": scenario.name, "seed": scenario.seed, "duration_s": sim.t,
         "interrupted": interrupt is not None,
         "interrupted_by": signal_name(interrupt) if interrupt is not None else None,
-        **compute_metrics(ctx.history, ctx.events.events),
+        **compute_metrics(ctx.steps, ctx.events.events),
         "faults": fault_report(ctx.events.events),
         "camera_frames": ctx.frames_taken,
         "camera_rate_hz": {"default": ctx.camera_rate,
@@ -257,5 +258,5 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
     }
     write_metrics(metrics, out / "metrics.json")
     h = ctx.homeostasis
-    plot_run(ctx.history, h.lower, h.upper, h.personality.mood.threshold, out / "plots")
+    plot_run(out / "timeline.csv", h.lower, h.upper, h.personality.mood.threshold, out / "plots")
     return metrics

@@ -21,6 +21,7 @@ from app.sim.robot import Robot
 from app.sim.speech import Speaker
 from app.sim.world import World
 from behaviours.config import BehaviourConfig, load_behaviour_config
+from behaviours.step_record import StepRecord
 from perception.detector.yolo import Detector
 from perception.facing.model import FacingEstimator
 
@@ -65,7 +66,7 @@ class Context:
     inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far
     snapshot: Any = None                     # callable(tag, frame) -> saved path, or None
-    history: list[dict[str, Any]] = field(default_factory=list)  # one row per homeostasis step
+    steps: StepRecord = field(default_factory=StepRecord)  # the homeostasis steps so far
     contain_faults: bool = False   # an exception in a behaviour fails it (household runs)
 
     @property

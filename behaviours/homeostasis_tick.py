@@ -18,9 +18,10 @@ BATTERY_TOLERANCE = 0.02   # charge the battery may differ from 1 - energy befor
 
 
 class HomeostasisTick(ContextBehaviour):
-    """Drives, motivations and mood on the blackboard; one history row per step. The
-    blackboard's seed (:func:`behaviours.blackboard.seed`) holds the initial drives with
-    their motivations and mood, so they are there before the first tick."""
+    """Drives, motivations and mood on the blackboard; one row per step in the run's
+    :class:`~behaviours.step_record.StepRecord`. The blackboard's seed
+    (:func:`behaviours.blackboard.seed`) holds the initial drives with their motivations and
+    mood, so they are there before the first tick."""
 
     def __init__(self, ctx: Context, name: str = "Homeostasis") -> None:
         super().__init__(name, ctx, reads=("stimuli", "emotion", "action", "relieving"),
@@ -68,7 +69,7 @@ class HomeostasisTick(ContextBehaviour):
         if relieving:
             bb.progress = bb.progress + 1
         self._publish()
-        self.ctx.history.append({
+        self.ctx.steps.append({
             "t": round(self._next, 3), "action": action or "stand_by", "relieving": relieving,
             "drives": bb.drives.copy(), "motivations": bb.motivations.copy(),
             "stimuli": bb.stimuli.copy(),
