@@ -4,13 +4,18 @@ head started on loopback with `ray start --head`."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import os
 import shutil
+import signal
+import socket
 import subprocess
 import sys
+import tempfile
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -81,25 +86,77 @@ def test_a_killed_driver_redoes_nothing_and_a_failed_run_is_recorded(tmp_path):
         "answered_share.png", "found_share.png", "mood_positive_share.png", "rsr.png"]
 
 
+def test_sigterm_stops_the_sweep_cleanly_and_a_new_start_finishes_it(tmp_path):
+    path = spec(tmp_path, "worlds: [WORLD]\nseeds: [0, 1]\nduration: 120\n")
+    out = tmp_path / "out"
+    cmd = [*SWEEP, str(path), "--out", str(out), "--cpus-per-run", "2", "--no-progress"]
+    driver = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                              text=True)
+    deadline = time.time() + 600
+    while time.time() < deadline and not list(out.glob("*/timeline.csv")):
+        time.sleep(0.5)
+    time.sleep(3)   # the run is under way
+    driver.terminate()
+    _, stderr = driver.communicate(timeout=300)
+    assert driver.returncode == 143, stderr
+    assert "Interrupted by SIGTERM" in (out / "summary.md").read_text()
+    (stopped,) = [json.loads(p.read_text()) for p in out.glob("*/metrics.json")]
+    assert stopped["interrupted"]   # the cancelled run wrote its report
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+    assert all(not json.loads(p.read_text())["interrupted"] for p in out.glob("*/metrics.json"))
+    assert "| living_room | default | 2/2 |" in (out / "summary.md").read_text()
+
+
 @pytest.fixture(scope="module")
-def ray_head():
-    """A Ray head on loopback (2 CPUs), shared by the tests that join it, stopped after."""
+def ray_head() -> Iterator[str]:
+    """A Ray head on loopback (2 CPUs, Ray's default token authentication), shared by the
+    tests that join it; its HOST:PORT. Its own temp folder names its processes, so only
+    they are stopped after (`ray stop` would also stop any other Ray on the machine)."""
+    with socket.socket() as probe:   # a free port for the head's GCS
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    temp = tempfile.mkdtemp(prefix="ray", dir="/tmp")   # short: Ray's sockets live there
     env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
     started = subprocess.run([RAY, "start", "--head", "--node-ip-address=127.0.0.1",
-                              "--port=0", "--num-cpus=2", "--include-dashboard=false",
-                              "--disable-usage-stats"], capture_output=True, text=True,
-                             timeout=300, env=env)
+                              f"--port={port}", "--num-cpus=2", "--include-dashboard=false",
+                              "--disable-usage-stats", f"--temp-dir={temp}"],
+                             capture_output=True, text=True, timeout=300, env=env)
     assert started.returncode == 0, started.stderr
-    yield
-    subprocess.run([RAY, "stop", "--force"], capture_output=True, timeout=300)
+    yield f"127.0.0.1:{port}"
+    stop_processes_naming(temp)
+    shutil.rmtree(temp, ignore_errors=True)
 
 
-def test_a_sweep_joins_a_running_ray_head(tmp_path, ray_head):
+def stop_processes_naming(text: str, wait_s: float = 30.0) -> None:
+    """SIGTERM every process whose command line contains ``text``; SIGKILL what is left
+    after ``wait_s``."""
+    def naming() -> list[int]:
+        found = []
+        for proc in Path("/proc").iterdir():
+            try:
+                if proc.name.isdigit() and text in (proc / "cmdline").read_text():
+                    found.append(int(proc.name))
+            except OSError:   # gone meanwhile
+                pass
+        return found
+
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        for pid in naming():
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, sig)
+        deadline = time.monotonic() + wait_s
+        while naming() and time.monotonic() < deadline:
+            time.sleep(0.5)
+
+
+def test_a_sweep_joins_a_running_ray_head_by_its_address(tmp_path, ray_head):
     path = spec(tmp_path, "worlds: [WORLD]\nseeds: [4]\nduration: 2\n")
     out = tmp_path / "out"
-    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--address", "auto",
+    env = {k: v for k, v in os.environ.items() if k != "RAY_AUTH_MODE"}
+    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--address", ray_head,
                            "--worker-dir", str(tmp_path / "workers"), "--no-progress"],
-                          capture_output=True, text=True, timeout=900)
+                          capture_output=True, text=True, timeout=900, env=env)
     assert done.returncode == 0, done.stderr
     (name,) = rows(out)
     metrics = json.loads((out / name / "metrics.json").read_text())
@@ -115,7 +172,7 @@ def test_dqn_trainings_over_seeds_are_summarised_against_the_rule(tmp_path, ray_
     path = tmp_path / "train.yaml"
     path.write_text(f"train_policy: {{config: {config.name}, seeds: [0, 1], episodes: 2}}\n")
     out = tmp_path / "out"
-    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--address", "auto",
+    done = subprocess.run([*SWEEP, str(path), "--out", str(out), "--address", ray_head,
                            "--no-progress"], capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr
     table = rows(out)

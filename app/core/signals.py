@@ -10,6 +10,7 @@ import contextlib
 import signal
 import threading
 from collections.abc import Iterator
+from dataclasses import dataclass
 from types import FrameType
 
 
@@ -17,20 +18,34 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM arrived."""
 
 
-def _raise(signum: int, frame: FrameType | None) -> None:
-    raise Terminated()
+@dataclass
+class Received:
+    """Whether SIGTERM arrived within a :func:`terminable` block: code that catches the
+    interrupt as a plain ``KeyboardInterrupt`` (as Ray's waits do) can still tell."""
+
+    sigterm: bool = False
+
+    def interrupt(self, caught: KeyboardInterrupt) -> KeyboardInterrupt:
+        """``caught``, or a :class:`Terminated` when SIGTERM was what arrived."""
+        return Terminated() if self.sigterm and not isinstance(caught, Terminated) else caught
 
 
 @contextlib.contextmanager
-def terminable() -> Iterator[None]:
+def terminable() -> Iterator[Received]:
     """Within the block, SIGTERM raises :class:`Terminated` (main thread only; elsewhere the
     block runs with the handlers as they are)."""
+    received = Received()
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield received
         return
+
+    def _raise(signum: int, frame: FrameType | None) -> None:
+        received.sigterm = True
+        raise Terminated()
+
     previous = signal.signal(signal.SIGTERM, _raise)
     try:
-        yield
+        yield received
     finally:
         signal.signal(signal.SIGTERM, previous)
 

@@ -18,11 +18,45 @@ from typing import Any
 from tqdm import tqdm
 
 from app.core.checkpoint import atomic_write_bytes
+from app.core.errors import UserError
 from app.core.run_folder import lock_folder
+from app.core.signals import terminable
 from app.sweep.spec import Run, TrainRun
 from app.sweep.worker import execute, execute_training
 
 CANCEL_WAIT_S = 60.0   # how long cancelled runs get to write their interrupted reports
+RAY_TOKEN_FILE = Path.home() / ".ray" / "auth_token"   # where `ray start` keeps its token
+
+
+class SweepError(UserError):
+    """The Ray cluster named by ``--address`` could not be joined."""
+
+
+def use_token(address: str | None) -> None:
+    """Before Ray is imported (it reads its settings then): a head started with ``ray start``
+    requires its token. ``auto`` finds that out from the local session; a driver given
+    HOST:PORT does not, so it sends the token when it has one (``RAY_AUTH_TOKEN``,
+    ``RAY_AUTH_TOKEN_PATH`` or Ray's token file) unless ``RAY_AUTH_MODE`` says otherwise. A
+    cluster without authentication accepts it too."""
+    has_token = ("RAY_AUTH_TOKEN" in os.environ or "RAY_AUTH_TOKEN_PATH" in os.environ
+                 or RAY_TOKEN_FILE.is_file())
+    if address not in (None, "auto") and has_token:
+        os.environ.setdefault("RAY_AUTH_MODE", "token")
+
+
+def join_ray(address: str | None) -> None:
+    """Start a new local Ray (``address`` None, even when another one runs here) or join a
+    cluster (``auto`` or HOST:PORT), after :func:`use_token`."""
+    import ray
+
+    try:
+        ray.init(address=address or "local", include_dashboard=False, log_to_driver=False,
+                 configure_logging=False)
+    except (ConnectionError, ray.exceptions.AuthenticationError) as exc:
+        raise SweepError(f"--address {address}: could not join the Ray cluster "
+                         f"({str(exc).splitlines()[0]}); a cluster started with `ray start` "
+                         "needs its token (`ray get-auth-token` on the head) in "
+                         f"{RAY_TOKEN_FILE} or RAY_AUTH_TOKEN (docs/sweeps.md)") from None
 
 
 def complete(folder: Path, run: Run | TrainRun) -> dict[str, Any] | None:
@@ -46,6 +80,7 @@ def sweep(runs: list[Run | TrainRun], out: Path, *, address: str | None, cpus_pe
           ) -> tuple[list[dict[str, Any]], BaseException | None]:
     """Run what is not complete yet; return one row per run (``run``, ``metrics`` or
     ``error``) and the interrupt that stopped the sweep (None when it ran to its end)."""
+    use_token(address)
     import ray  # heavy: only a sweep pays for it
 
     out.mkdir(parents=True, exist_ok=True)
@@ -55,17 +90,17 @@ def sweep(runs: list[Run | TrainRun], out: Path, *, address: str | None, cpus_pe
     interrupt: BaseException | None = None
     try:
         if todo:
-            ray.init(address=address, include_dashboard=False, log_to_driver=False,
-                     configure_logging=False)
+            join_ray(address)
             task = ray.remote(max_calls=1)(_task)
             pending = {task.options(num_cpus=cpus_per_run).remote(
                 r, str((worker_dir or out) / r.name), worker_dir is not None): r for r in todo}
-            with tqdm(total=len(runs), initial=len(runs) - len(todo), unit="run",
-                      disable=None if progress else True) as bar:
+            with terminable() as received, tqdm(
+                    total=len(runs), initial=len(runs) - len(todo), unit="run",
+                    disable=None if progress else True) as bar:
                 try:
                     _collect(pending, rows, out, worker_dir is not None, bar)
-                except KeyboardInterrupt as exc:
-                    interrupt = exc
+                except KeyboardInterrupt as exc:   # Ray's wait turns SIGTERM's into a plain one
+                    interrupt = received.interrupt(exc)
                     for ref in pending:   # each run stops as at Ctrl-C: its report is written
                         ray.cancel(ref)
                     ray.wait(list(pending), num_returns=len(pending), timeout=CANCEL_WAIT_S)
