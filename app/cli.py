@@ -15,8 +15,10 @@ from app import __version__
 from app.core.errors import UserError
 from app.core.signals import exit_status, signal_name, terminable
 
-DOMAINS = ["app.mind.policy.training.cli", "dialogue.cli", "dialogue.style.training.cli",
-           "dialogue.chat.training.cli", "perception.detector.training.cli",
+DOMAINS = ["app.mind.policy.training.cli", "app.mind.preferences.evaluation.cli",
+           "app.mind.preferences.cli",
+           "dialogue.cli", "dialogue.style.training.cli", "dialogue.chat.training.cli",
+           "perception.detector.training.cli",
            "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",
            "app.sweep.cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",

@@ -110,6 +110,11 @@ def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
         "questions_grounded": sum(e["kind"] == "question_truth" and e["grounded"]
                                   for e in events),
         "dont_know_answers": sum(e.get("found") is False for e in replies),
+        "feedback_given": sum(e["kind"] == "feedback" for e in events),
+        "feedback_credited": dict(Counter(f"{e['action']} {'+' if e['reward'] > 0 else '-'}"
+                                          for e in events if e["kind"] == "credited")),
+        "choices_by_preference": sum(e["kind"] == "action" and e.get("reason") == "preference"
+                                     for e in events),
     }
 
 

@@ -30,6 +30,7 @@ from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
 from app.mind.personality import load_personality
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import DEFAULT_POLICY
+from app.mind.preferences.memory import Memory, load_memory
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
 from app.sim.dances import song_names
 from app.sim.scenario import Scenario, load_scenario
@@ -100,17 +101,26 @@ class HouseholdRun:
 
 def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
               policy_path: Path | None = None, behaviour_config: Path | None = None,
-              audio: bool = False, faults: FaultSpec | None = None) -> HouseholdRun:
+              audio: bool = False, faults: FaultSpec | None = None,
+              memory: Path | None = None, adapt: bool = True,
+              threads: int | None = None) -> HouseholdRun:
     """Build the world, the robot's services (detector, facing model, dialogue, question
     generator, policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
     ask-question skill fails (it has no canned questions). With ``faults``, a
     :class:`~app.faults.FaultInjector` breaks things as the run goes (before each tick), and
-    an exception inside a behaviour fails that behaviour instead of the run."""
+    an exception inside a behaviour fails that behaviour instead of the run. With ``adapt``
+    the robot learns from feedback during the run, starting from the household memory file
+    ``memory`` (saved as it learns) or, without one, from nothing. ``threads``: the
+    detector's CPU threads (None: the detector config's)."""
     check_occasion(scenario)   # before anything is built or written
+    household = load_memory(memory, scenario.name) if memory is not None else None
     out.mkdir(parents=True, exist_ok=True)
     config = load_behaviour_config(behaviour_config)
     policy = DQNPolicy.load(policy_path or DEFAULT_POLICY)
-    detector: Any = YoloDetector.from_config(load_detector_config().detect)
+    detect = load_detector_config().detect
+    if threads is not None:
+        detect = detect.model_copy(update={"threads": threads})
+    detector: Any = YoloDetector.from_config(detect)
     sim = Simulation(scenario, gui=gui)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
@@ -131,6 +141,8 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
                        audio_dir=out / "audio" if audio else None, dialogue=dialogue,
                        questions=questions, facing=facing)
     ctx.snapshot, ctx.contain_faults = saver, True
+    if adapt:
+        ctx.memory, ctx.memory_path = household or Memory(scenario.name), memory
     tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
     if faults is not None:
         injector = FaultInjector(faults, sim, ctx.events)
@@ -161,10 +173,12 @@ def prepare_scenario(path: Path, *, duration: float | None = None, seed: int | N
 def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
                  policy_path: Path | None = None, behaviour_config: Path | None = None,
                  audio: bool = False, overwrite: bool = False, faults: FaultSpec | None = None,
+                 memory: Path | None = None, adapt: bool = True, threads: int | None = None,
                  tags: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
     :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) and return the
-    metrics (with ``tags`` added, e.g. the sweep entry it ran). SIGINT or SIGTERM ends the
+    metrics (with ``tags`` added, e.g. the sweep entry it ran); ``memory``, ``adapt`` and
+    ``threads`` as in :func:`build_run`. SIGINT or SIGTERM ends the
     run early: the report is still written and
     ``metrics["interrupted_by"]`` names the signal. A failed write (a full disk) stops the run
     with a :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
@@ -173,7 +187,8 @@ def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: 
     claim(out, overwrite)
     try:
         run = build_run(scenario, out, gui=gui, policy_path=policy_path,
-                        behaviour_config=behaviour_config, audio=audio, faults=faults)
+                        behaviour_config=behaviour_config, audio=audio, faults=faults,
+                        memory=memory, adapt=adapt, threads=threads)
         atomic_write_bytes(out / "scenario.yaml", yaml.safe_dump(
             scenario.model_dump(mode="json"), sort_keys=False).encode())
         with run.sim:

@@ -45,6 +45,13 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--faults", type=Path,
                    help="YAML of faults to inject (docs/reliability.md): the run reports "
                    "each one and the robot's recovery in metrics.json")
+    p.add_argument("--memory", type=Path,
+                   help="the household's memory of what its people like (docs/feedback.md; "
+                   "default: runs/memory/<scenario name>.json beside the run folder)")
+    p.add_argument("--no-memory", action="store_true",
+                   help="learn from feedback during this run only: no memory read or kept")
+    p.add_argument("--no-adaptation", action="store_true",
+                   help="feedback is logged, but the DQN alone chooses")
     p.add_argument("--json", action="store_true", help="print the metrics as one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_command)
@@ -98,9 +105,12 @@ def run_command(args: argparse.Namespace) -> int:
         raise UserError("--gui needs a display (DISPLAY is not set); run headless without it")
     out = args.out or default_folder(Path("runs"), scenario.name)
     faults = load_faults(args.faults) if args.faults else None
+    memory = None if args.no_memory or args.no_adaptation else (
+        args.memory or out.parent / "memory" / f"{scenario.name}.json")
     metrics = run_scenario(scenario, out, gui=args.gui, progress=not args.no_progress,
                            policy_path=args.policy, behaviour_config=args.behaviour,
-                           audio=args.audio, overwrite=args.overwrite, faults=faults)
+                           audio=args.audio, overwrite=args.overwrite, faults=faults,
+                           memory=memory, adapt=not args.no_adaptation)
     status = status_of(metrics["interrupted_by"])
     if args.json:
         print(json.dumps(metrics))

@@ -35,6 +35,9 @@ KEYS = {
     "frame_t": "float: when it was taken (simulated s)",
     "detections": "list[Detection] in the latest frame",
     "heard": "list[HeardLine]: what people said to the robot, not yet answered",
+    "feedback": "list[FeedbackEvent]: praise or scolding not yet credited to an action",
+    "person": "tuple[str, float] | None: who last spoke to the robot or gave it feedback, "
+              "and when (simulated s)",
     "must_finish": "bool: the running action is a safety one (critical charge, rest when "
                    "overheated) that a line said to the robot must not interrupt",
     "request": "Action | None: what a reply promised to do (sing a song), started next",
@@ -71,7 +74,8 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
         **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
         "action": None, "relieving": False, "progress": 0, "act_status": None,
         "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "heard": [],
-        "must_finish": False, "request": None, "listening_to": None, "tracking": 0.0,
+        "feedback": [], "person": None, "must_finish": False, "request": None,
+        "listening_to": None, "tracking": 0.0,
         "people_seen": [], "rooms_searched": {},
     }
     assert values.keys() == KEYS.keys(), sorted(values.keys() ^ KEYS.keys())

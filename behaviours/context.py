@@ -8,6 +8,7 @@ state lives on the py_trees blackboard instead (``behaviours/blackboard.py``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
@@ -16,6 +17,8 @@ import py_trees
 from app.core.events import EventLog
 from app.mind.homeostasis import Homeostasis
 from app.mind.personality import load_personality
+from app.mind.preferences.config import AdaptationConfig, load_feedback_config
+from app.mind.preferences.memory import Memory
 from app.sim.navigation import PathFollower
 from app.sim.robot import Robot
 from app.sim.speech import Speaker
@@ -68,6 +71,10 @@ class Context:
     snapshot: Any = None                     # callable(tag, frame) -> saved path, or None
     steps: StepRecord = field(default_factory=StepRecord)  # the homeostasis steps so far
     contain_faults: bool = False   # an exception in a behaviour fails it (household runs)
+    memory: Memory | None = None   # the household's preferences: adapt to feedback when set
+    memory_path: Path | None = None                 # where the memory is saved as it learns
+    adaptation: AdaptationConfig = field(
+        default_factory=lambda: load_feedback_config().adaptation)
 
     @property
     def now(self) -> float:

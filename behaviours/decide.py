@@ -8,7 +8,10 @@
    switches to chat, which turns to the voice and answers. Once a reply has asked for
    something (a song: ``request``), that action starts next.
 3. **The policy's choice.** Whenever the running action has finished (or failed, or nothing
-   runs yet) the DQN picks the next one from the motivations.
+   runs yet) the DQN picks the next one from the motivations. With a household memory
+   (``ctx.memory``) the pick adds what the person likes to the DQN's action values, among
+   the actions that cannot let a drive near the secure bound
+   (:mod:`app.mind.preferences.adaptation`); the reason is then ``preference``.
 
 The act subtree's guards stop a pre-empted skill cleanly (docs/behaviours.md explains the
 order).
@@ -21,7 +24,8 @@ from typing import Protocol
 import numpy as np
 from py_trees.common import Status
 
-from app.mind.personality import DRIVES, STIMULI
+from app.mind.personality import ACTIONS, DRIVES, STIMULI
+from app.mind.preferences.adaptation import adapted_actions, safe_actions
 from behaviours.context import Context
 from behaviours.listening import pending
 from behaviours.skill import ContextBehaviour
@@ -37,12 +41,17 @@ class Policy(Protocol):
         """The action to run for these motivations."""
         ...
 
+    def q_values(self, motivations: np.ndarray) -> np.ndarray:
+        """The value of each action (adaptation to feedback adds preferences to them)."""
+        ...
+
 
 class Decide(ContextBehaviour):
     """Set ``action`` on the blackboard when a new one is due."""
 
     def __init__(self, ctx: Context, policy: Policy, name: str = "Decide") -> None:
-        super().__init__(name, ctx, reads=("motivations", "drives", "stimuli", "heard"),
+        super().__init__(name, ctx, reads=("motivations", "drives", "stimuli", "heard",
+                                           "person"),
                          writes=("action", "progress", "relieving", "act_status",
                                  "must_finish", "request"))
         self.policy = policy
@@ -88,4 +97,16 @@ class Decide(ContextBehaviour):
         elif status == Status.FAILURE and action != "stand_by":
             self._start("stand_by", f"{action} failed")
         else:
-            self._start(self.policy.act(self.bb.motivations), "policy")
+            self._start(*self._choice())
+
+    def _choice(self) -> tuple[str, str]:
+        """The policy's pick, and with a memory the pick adapted to the person's tastes."""
+        memory, motivations = self.ctx.memory, self.bb.motivations
+        if memory is None:
+            return self.policy.act(motivations), "policy"
+        cfg, person = self.ctx.adaptation, self.bb.person
+        who = person[0] if person and self.now - person[1] <= cfg.person_window_s else None
+        q = self.policy.q_values(motivations)[None]
+        safe = safe_actions(self.ctx.homeostasis, self.bb.drives[None], cfg.safety_margin)
+        pick = int(adapted_actions(q, memory.table(who)[None], safe, cfg.weight)[0])
+        return ACTIONS[pick], "policy" if pick == int(q.argmax()) else "preference"

@@ -4,7 +4,9 @@
   microphones heard them) are queued in ``heard`` and, like a person in front, make the
   human-present stimulus: someone talking to the robot is an interaction; praise switches
   the encouragement stimulus on for ``encouragement_s``; a shown
-  emotion colours the mood for ``emotion_hold_s``;
+  emotion colours the mood for ``emotion_hold_s``; feedback (praise or scolding, r_external)
+  is queued in ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave
+  feedback last is ``person``;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``) go through the
   detector; a plausible person box whose person is at most ``present_max_distance_m``
@@ -22,7 +24,7 @@ import numpy as np
 from py_trees.common import Status
 
 from app.sim.hearing import HeardLine
-from app.sim.world import EmotionEvent, EncourageEvent
+from app.sim.world import EmotionEvent, EncourageEvent, FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
@@ -39,7 +41,7 @@ class Sense(ContextBehaviour):
     def __init__(self, ctx: Context, name: str = "Sense") -> None:
         super().__init__(name, ctx, reads=("tracking",),
                          writes=("stimuli", "emotion", "frame", "depth", "frame_t",
-                                 "detections", "heard"))
+                                 "detections", "heard", "feedback", "person"))
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
@@ -55,6 +57,7 @@ class Sense(ContextBehaviour):
             if isinstance(ev, HeardLine):
                 if ev.to_robot:
                     self.bb.heard = [*self.bb.heard, ev]
+                    self.bb.person = (ev.person, self.now)
                     self._present_until = self.now + cfg.perception.present_hold_s
                 self.emit("heard" if ev.to_robot else "overheard", line=ev.line,
                           person=ev.person, text=ev.text, to=ev.to,
@@ -62,6 +65,10 @@ class Sense(ContextBehaviour):
             elif isinstance(ev, EncourageEvent):
                 self._encouraged_until = self.now + cfg.encouragement_s
                 self.emit("encouraged", person=ev.person, text=ev.text)
+            elif isinstance(ev, FeedbackEvent):
+                self.bb.feedback = [*self.bb.feedback, ev]
+                self.bb.person = (ev.person, self.now)
+                self.emit("feedback", person=ev.person, value=ev.value, about=ev.about)
             elif isinstance(ev, EmotionEvent):
                 self.bb.emotion = EMOTION_VALUE[ev.emotion]
                 self._emotion_until = self.now + cfg.emotion_hold_s

@@ -3,7 +3,8 @@
 ::
 
     Companion (sequence, re-evaluated every tick)
-    ├── Sense         stimuli, heard lines and camera detections onto the blackboard
+    ├── Sense         stimuli, heard lines, feedback and camera detections onto the blackboard
+    ├── Credit        feedback to the action it follows; the household memory learns
     ├── Homeostasis   drives, motivations and mood, once per homeostasis step
     ├── Decide        safety first (low energy pre-empts), then answering whoever spoke,
     │                 then the DQN's pick when the last action ended
@@ -32,6 +33,7 @@ from app.mind.personality import ACTIONS
 from behaviours.blackboard import seed
 from behaviours.context import Context
 from behaviours.decide import Decide, Policy
+from behaviours.feedback import Credit
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.listening import Promise
 from behaviours.sense import Sense
@@ -63,7 +65,8 @@ def build_tree(ctx: Context, policy: Policy, initial_drives: dict[str, float],
                                                  variable_name="act_status")
     return py_trees.composites.Sequence(
         "Companion", memory=False,
-        children=[Sense(ctx), HomeostasisTick(ctx), Decide(ctx, policy), Promise(ctx), act])
+        children=[Sense(ctx), Credit(ctx), HomeostasisTick(ctx), Decide(ctx, policy),
+                  Promise(ctx), act])
 
 
 def render(root: py_trees.behaviour.Behaviour, show_status: bool = False) -> str:

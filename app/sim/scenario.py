@@ -18,7 +18,7 @@ from pydantic import Field, create_model, model_validator
 
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
 from app.core.limits import MAX_DURATION_S, SEED_MAX
-from app.mind.personality import DRIVES, load_personality
+from app.mind.personality import DRIVES, Action, load_personality
 from app.sim.layout import (
     ROOM_MARGIN,
     Colour,
@@ -94,7 +94,7 @@ class Say(StrictModel):
 
 AUDIENCES = ("robot", "everyone")  # besides a person's name, who a line can be said to
 PHYSICAL = ("enter", "leave", "walk_to", "pose")
-SOCIAL = ("say", "encourage", "emotion")
+SOCIAL = ("say", "encourage", "emotion", "feedback")
 
 
 class Event(StrictModel):
@@ -108,6 +108,8 @@ class Event(StrictModel):
     say: Say | None = None
     encourage: str | None = Field(default=None, min_length=1)
     emotion: Literal["happy", "sad", "neutral"] | None = None
+    feedback: Literal["positive", "negative"] | None = None   # r_external (docs/feedback.md)
+    about: Action | None = None    # with feedback: the action it is about
 
     @model_validator(mode="after")
     def _one_action(self) -> Event:
@@ -115,6 +117,8 @@ class Event(StrictModel):
         if len(given) != 1:
             raise ValueError(f"an event needs exactly one of {', '.join((*PHYSICAL, *SOCIAL))};"
                              f" got {given or 'none'}")
+        if self.about is not None and self.feedback is None:
+            raise ValueError("about: only a feedback event says what it is about")
         return self
 
     @property

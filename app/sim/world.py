@@ -118,7 +118,18 @@ class EmotionEvent:
     emotion: str
 
 
-SocialEvent = SayEvent | EncourageEvent | EmotionEvent
+@dataclass(frozen=True)
+class FeedbackEvent:
+    """A person praises (``value`` +1) or scolds (-1) the robot, optionally naming the
+    action it is ``about``."""
+
+    t: float
+    person: str
+    value: int
+    about: str | None
+
+
+SocialEvent = SayEvent | EncourageEvent | EmotionEvent | FeedbackEvent
 
 
 # --- furniture and objects from primitives ------------------------------------------------
@@ -533,6 +544,8 @@ class World:
             return EncourageEvent(t, name, e.encourage)
         elif e.emotion is not None:
             return EmotionEvent(t, name, e.emotion)
+        elif e.feedback is not None:
+            return FeedbackEvent(t, name, 1 if e.feedback == "positive" else -1, e.about)
         return None
 
     def _play(self, t_prev: float, t_now: float, offset: float) -> list[SocialEvent]:

@@ -1,0 +1,1 @@
+"""What each person of a household likes: preferences learnt from feedback (issue: feedback)."""

@@ -1,0 +1,76 @@
+"""``companion eval feedback``: how fast and how safely the robot adapts to simulated users.
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from app.core.cli_args import integer, real, seed
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``eval feedback``."""
+    p = sub.add_parser("feedback", help="adaptation to simulated users' feedback",
+                       description="Run the shipped DQN in the abstract household with "
+                       "simulated users who praise and scold by hidden tastes: without "
+                       "adaptation, with it, and with it but no memory between sessions. "
+                       "Writes metrics.json and learning curves (docs/feedback.md).")
+    p.add_argument("--users", type=integer(1, 100_000), default=1000,
+                   help="simulated users, one household each (default 1000)")
+    p.add_argument("--seed", type=seed(), default=0, help="seed of households and users")
+    p.add_argument("--hours", type=real(above=0, below=1000), default=16.0,
+                   help="simulated hours per household (default 16)")
+    p.add_argument("--session-hours", type=real(above=0, below=1000), default=4.0,
+                   help="session length for the no-memory arm (default 4)")
+    p.add_argument("--events", type=integer(1, 10_000), default=50,
+                   help="feedback events after which the bars are measured (default 50)")
+    p.add_argument("--config", type=Path, help="feedback YAML (over app/defaults/feedback.yaml)")
+    p.add_argument("--out", type=Path, default=Path("runs/eval-feedback"),
+                   help="folder for metrics.json and plots")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run_eval)
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """Handler of ``companion eval feedback``."""
+    from app.core.checkpoint import atomic_write_bytes
+    from app.mind.homeostasis import Homeostasis
+    from app.mind.personality import load_personality
+    from app.mind.policy.agent import DQNPolicy
+    from app.mind.policy.config import load_policy_config
+    from app.mind.preferences.config import load_feedback_config
+    from app.mind.preferences.evaluation.evaluate import MODES, run_arm, summarise
+    from app.mind.preferences.evaluation.plots import learning_curves
+
+    cfg = load_feedback_config(args.config)
+    h = Homeostasis(load_personality())
+    steps = round(args.hours * 3600)
+    env_cfg = load_policy_config().env.model_copy(update={"episode_steps": steps})
+    policy = DQNPolicy.load()
+    arms = {mode: run_arm(mode, policy, h, env_cfg, cfg, args.users, args.seed,
+                          round(args.session_hours * 3600)) for mode in MODES}
+    summary = summarise(arms, args.events)
+    summary.update(users=args.users, seed=args.seed, hours=args.hours,
+                   session_hours=args.session_hours, config=cfg.model_dump(mode="json"))
+    args.out.mkdir(parents=True, exist_ok=True)
+    atomic_write_bytes(args.out / "metrics.json", (json.dumps(summary, indent=2) + "\n").encode())
+    plot = learning_curves(summary, args.out / "plots")
+    if args.json:
+        print(json.dumps(summary))
+        return 0
+    print(f"{args.users} simulated users, {args.hours:g} h each; after {args.events} feedback "
+          "events:")
+    print("| arm | RSR % | disliked share (without) | drop | liked share (without) | gain "
+          "| internal reward / h |")
+    print("|---|---|---|---|---|---|---|")
+    for mode, r in summary["arms"].items():
+        print(f"| {mode} | {100 * r['rsr']:.3f} | {r['disliked_share']:.4f} "
+              f"({r['disliked_share_without']:.4f}) | {r['disliked_share_drop']:+.1%} "
+              f"| {r['liked_share']:.4f} ({r['liked_share_without']:.4f}) "
+              f"| {r['liked_share_gain']:+.1%} | {r['reward_per_hour']:.1f} |")
+    print(f"\nmetrics.json and {plot.name} in {args.out}")
+    return 0

@@ -1,0 +1,134 @@
+"""Adapting to simulated users in the abstract household (the policy's training env).
+
+Each household has one simulated user with hidden tastes (:mod:`.users`). The robot runs
+the shipped DQN; with adaptation it learns the user's preferences from their feedback and
+chooses with them (:mod:`app.mind.preferences.adaptation`). Every arm replays the same
+seeded households and users, so arms are paired. Time is counted per user, by the user's
+taste for the running action and by how many feedback events the user had given so far:
+the learning curves and the bars come from that count.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from app.mind.homeostasis import Homeostasis
+from app.mind.policy.agent import DQNPolicy
+from app.mind.policy.config import EnvConfig
+from app.mind.policy.training.env import VecHomeostasisEnv
+from app.mind.preferences.adaptation import adapted_actions, learn, safe_actions
+from app.mind.preferences.config import FeedbackConfig
+from app.mind.preferences.evaluation.users import DISLIKE, LIKE, react, sample_population
+
+MODES = ("none", "adapt", "no_memory")
+# none: the DQN alone; adapt: the user's preferences learnt and kept; no_memory: learnt,
+# but forgotten whenever a new session starts (a robot without --memory, every day anew).
+BIN = 10     # feedback events per learning-curve bin
+BINS = 10    # bins 0-9, 10-19, ..., 90 and more
+
+
+@dataclass
+class Arm:
+    """One arm's record. ``time[user, bin, taste + 1]``: steps the robot spent on actions the
+    user dislikes (taste -1), neither (0) or likes (+1), by the bin of the user's feedback
+    count at the time."""
+
+    mode: str
+    kind: np.ndarray          # each user's type
+    taste: np.ndarray         # (users, actions)
+    time: np.ndarray
+    feedback: np.ndarray      # feedback events each user gave
+    secure_steps: int = 0
+    steps: int = 0
+    reward: float = 0.0       # internal reward (eq. 3.7 without r_external), all episodes
+
+
+def run_arm(mode: str, policy: DQNPolicy, h: Homeostasis, env_cfg: EnvConfig,
+            cfg: FeedbackConfig, users: int, seed: int, session_steps: int) -> Arm:
+    """One episode (``env_cfg.episode_steps``) in each of ``users`` seeded households."""
+    pop = sample_population(cfg.simulated_users, users, np.random.default_rng(seed))
+    env, rng = VecHomeostasisEnv(h, env_cfg, users, seed), np.random.default_rng(seed + 1)
+    prefs = np.zeros_like(pop.praise)
+    arm = Arm(mode, pop.kind, pop.taste, np.zeros((users, BINS, 3)), np.zeros(users, int))
+    done = np.zeros(users, bool)
+    adapt = cfg.adaptation
+
+    def decide(idx: np.ndarray, obs: np.ndarray) -> np.ndarray:
+        q = policy.q_values(obs)
+        if mode == "none" or done[idx].all():
+            return q.argmax(axis=-1)
+        safe = safe_actions(h, env.drives[idx], adapt.safety_margin)
+        return adapted_actions(q, prefs[idx], safe, adapt.weight)
+
+    env.act(np.arange(users), decide(np.arange(users), env.observe()))
+    while not done.all():
+        d = env.advance()
+        for i, stats in zip(d.ended, d.episodes, strict=True):
+            if not done[i]:
+                arm.secure_steps += round(stats["rsr"] * stats["steps"])
+                arm.steps += stats["steps"]
+                arm.reward += stats["return"]
+        live = ~done[d.idx]
+        idx, act = d.idx[live], d.action[live]
+        bins = np.minimum(arm.feedback[idx] // BIN, BINS - 1)
+        np.add.at(arm.time, (idx, bins, pop.taste[idx, act] + 1), h.duration[act])
+        fb = react(pop, idx, act, env.human[idx], cfg.simulated_users.react_prob, rng)
+        arm.feedback[idx] += fb != 0
+        if mode != "none":
+            learn(prefs, idx, act, fb, adapt.learning_rate)
+        if mode == "no_memory":   # a session began during the action: a blank memory
+            began = env.t[idx] // session_steps != (env.t[idx] - h.duration[act]) // session_steps
+            prefs[idx[began]] = 0.0
+        done[d.ended] = True
+        env.act(d.idx, decide(d.idx, d.decide_obs))   # finished households idle on, unrecorded
+    return arm
+
+
+def share_after(arm: Arm, users: np.ndarray, taste: int, events: int) -> float:
+    """The share of ``users``' time on actions of ``taste`` once each had given ``events``
+    feedback events (NaN when there is no such time)."""
+    t = arm.time[users][:, events // BIN:].sum(axis=(0, 1))
+    return float(t[taste + 1] / t.sum()) if t.sum() else float("nan")
+
+
+def curve(arm: Arm, users: np.ndarray, taste: int) -> list[float | None]:
+    """Per feedback-count bin: the share of ``users``' time on actions of ``taste``."""
+    t = arm.time[users].sum(axis=0)
+    return [round(float(b[taste + 1] / b.sum()), 5) if b.sum() else None for b in t]
+
+
+def summarise(arms: dict[str, Arm], events: int) -> dict[str, Any]:
+    """The bars' figures, each arm against ``none`` (the DQN alone, same households).
+
+    ``disliked_share_drop``: the relative drop of the share of time on disliked actions,
+    over the users who dislike something and gave ``events`` feedback events, from then
+    on, against the same users' share over the whole run without adaptation.
+    ``liked_share_gain``: the relative rise of liked actions, likewise. ``rsr``: secure steps
+    over all steps. ``curves``: disliked and liked shares per feedback-count bin and type."""
+    base = arms["none"]
+    out: dict[str, Any] = {"events": events, "arms": {}}
+    for mode, arm in arms.items():
+        row: dict[str, Any] = {
+            "rsr": arm.secure_steps / arm.steps,
+            "reward_per_hour": arm.reward / arm.steps * 3600,
+            "users": len(arm.kind),
+            "median_feedback_events": float(np.median(arm.feedback)),
+            "users_past_events": int((arm.feedback >= events).sum()),
+            "curves": {kind: {"disliked": curve(arm, np.flatnonzero(arm.kind == kind), DISLIKE),
+                              "liked": curve(arm, np.flatnonzero(arm.kind == kind), LIKE)}
+                       for kind in sorted(set(arm.kind.tolist()))},
+        }
+        for name, taste in (("disliked", DISLIKE), ("liked", LIKE)):
+            who = np.flatnonzero((arm.taste == taste).any(axis=1) & (arm.feedback >= events))
+            row[f"{name}_users"] = len(who)
+            row[f"{name}_share"] = share_after(arm, who, taste, events)
+            row[f"{name}_share_without"] = share_after(base, who, taste, 0)
+        row["disliked_share_drop"] = 1.0 - row["disliked_share"] / row["disliked_share_without"]
+        row["liked_share_gain"] = row["liked_share"] / row["liked_share_without"] - 1.0
+        out["arms"][mode] = row
+    adapt = out["arms"].get("adapt", out["arms"]["none"])
+    out.update({k: adapt[k] for k in ("disliked_share_drop", "liked_share_gain", "rsr")})
+    return out
