@@ -69,10 +69,10 @@ def complete(folder: Path, run: Run | TrainRun) -> dict[str, Any] | None:
     return metrics if ok and metrics.get("sweep_key") == run.key else None
 
 
-def _task(run: Run | TrainRun, folder: str, collect: bool) -> dict[str, Any]:
+def _task(run: Run | TrainRun, folder: str, collect: bool, threads: int) -> dict[str, Any]:
     if isinstance(run, TrainRun):
         return execute_training(run, Path(folder))
-    return execute(run, Path(folder), collect)
+    return execute(run, Path(folder), collect, threads)
 
 
 def sweep(runs: list[Run | TrainRun], out: Path, *, address: str | None, cpus_per_run: float,
@@ -92,8 +92,10 @@ def sweep(runs: list[Run | TrainRun], out: Path, *, address: str | None, cpus_pe
         if todo:
             join_ray(address)
             task = ray.remote(max_calls=1)(_task)
+            threads = max(1, int(cpus_per_run))   # a run's models stay within its cores
             pending = {task.options(num_cpus=cpus_per_run).remote(
-                r, str((worker_dir or out) / r.name), worker_dir is not None): r for r in todo}
+                r, str((worker_dir or out) / r.name), worker_dir is not None, threads): r
+                for r in todo}
             with terminable() as received, tqdm(
                     total=len(runs), initial=len(runs) - len(todo), unit="run",
                     disable=None if progress else True) as bar:

@@ -90,6 +90,7 @@ class DetectConfig(StrictModel):
     imgsz: PositiveInt
     conf: float = Field(gt=0.0, lt=1.0)
     iou: float = Field(gt=0.0, lt=1.0)
+    threads: int = Field(default=0, ge=0, le=256)
 
 
 class DetectorConfig(StrictModel):

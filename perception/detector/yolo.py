@@ -82,7 +82,8 @@ class YoloDetector:
     (``.onnx``, run by onnxruntime, the fast path) or any ultralytics weights file."""
 
     def __init__(self, weights: str | Path | None = None, imgsz: int | None = None,
-                 conf: float | None = None, iou: float | None = None) -> None:
+                 conf: float | None = None, iou: float | None = None,
+                 threads: int | None = None) -> None:
         """``weights`` None: the shipped detector; other arguments left at None take the
         value of ``detect:`` in ``app/defaults/detector.yaml`` (an ONNX export's input size
         is fixed in the file)."""
@@ -93,7 +94,8 @@ class YoloDetector:
         defaults = load_detector_config().detect
         try:
             self.model: OnnxYolo | UltralyticsYolo = (
-                OnnxYolo(path) if path.suffix == ".onnx"
+                OnnxYolo(path, defaults.threads if threads is None else threads)
+                if path.suffix == ".onnx"
                 else UltralyticsYolo(path, defaults.imgsz if imgsz is None else imgsz))
         except Exception as exc:
             raise DetectorFileError(f"{path}: not a readable YOLO weights file ({exc})") from None
@@ -107,7 +109,7 @@ class YoloDetector:
     def from_config(cls, cfg: DetectConfig | None = None) -> YoloDetector:
         """The detector described by ``detect:`` of the detector config (defaults if None)."""
         cfg = cfg or load_detector_config().detect
-        return cls(cfg.weights, cfg.imgsz, cfg.conf, cfg.iou)
+        return cls(cfg.weights, cfg.imgsz, cfg.conf, cfg.iou, cfg.threads)
 
     def detect(self, frame: np.ndarray) -> list[Detection]:
         """Boxes in ``frame`` (RGB uint8), most confident first."""
