@@ -29,6 +29,7 @@ from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, people_in_view
+from dialogue.feedback import FeedbackClassifier
 from perception.detector.yolo import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
@@ -59,6 +60,7 @@ class Sense(ContextBehaviour):
                     self.bb.heard = [*self.bb.heard, ev]
                     self.bb.person = (ev.person, self.now)
                     self._present_until = self.now + cfg.perception.present_hold_s
+                    self._spoken_feedback(ev)
                 self.emit("heard" if ev.to_robot else "overheard", line=ev.line,
                           person=ev.person, text=ev.text, to=ev.to,
                           bearing=round(ev.bearing, 3))
@@ -76,6 +78,17 @@ class Sense(ContextBehaviour):
         self.ctx.inbox.clear()
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
+
+    def _spoken_feedback(self, line: HeardLine) -> None:
+        """A line that praises or scolds (``dialogue.feedback``) is also feedback; only a
+        robot that understands speech (one with a dialogue) hears it."""
+        if self.ctx.dialogue is None:
+            return
+        value = FeedbackClassifier.default().value(line.text)
+        if value:
+            self.bb.feedback = [*self.bb.feedback, FeedbackEvent(line.t, line.person, value,
+                                                                 None)]
+            self.emit("feedback", person=line.person, value=value, about=None, line=line.line)
 
     def _camera(self) -> None:
         ctx, cfg = self.ctx, self.ctx.config.perception

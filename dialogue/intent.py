@@ -65,16 +65,17 @@ class Intent:
     source: str = "model"  # or "mode" when an explicit mode decided
 
 
-def load_utterances(path: str | Path) -> list[tuple[str, str]]:
+def load_utterances(path: str | Path, labels: tuple[str, ...] = LABELS
+                    ) -> list[tuple[str, str]]:
     """``(label, utterance)`` pairs from a ``label<TAB>utterance`` file (``#`` comments)."""
     pairs = []
     for n, line in enumerate(read_text(path).splitlines(), 1):
         if not line.strip() or line.startswith("#"):
             continue
         label, sep, text = line.partition("\t")
-        if not sep or label not in LABELS or not text.strip():
+        if not sep or label not in labels or not text.strip():
             raise DialogueError(f"{path}:{n}: expected '<label><TAB><utterance>' with a label "
-                                f"in {', '.join(LABELS)}")
+                                f"in {', '.join(labels)}")
         pairs.append((label, text.strip()))
     return pairs
 
@@ -131,17 +132,15 @@ def _rows(texts: list[str]) -> list[tuple[str, str]]:
     return [(mask_entities(t), normalise(t)) for t in texts]
 
 
-class IntentClassifier:
-    """TF-IDF + logistic regression over :data:`LABELS`, plus cue-word bonuses."""
+class TextModel:
+    """Logistic regression over the TF-IDF features of :func:`_features`, trained on
+    ``(label, utterance)`` examples when made (well under a second)."""
 
-    def __init__(self, examples: list[tuple[str, str]] | None = None,
-                 cue_bonus: float = CUE_BONUS) -> None:
+    def __init__(self, examples: list[tuple[str, str]]) -> None:
         from sklearn.linear_model import LogisticRegression  # see _features
         from threadpoolctl import threadpool_limits
 
-        examples = examples if examples is not None else load_utterances(TRAIN_FILE)
         labels, texts = zip(*examples, strict=True)
-        self.cue_bonus = cue_bonus
         self.features = _features()
         with threadpool_limits(limits=1):  # tiny problem: threads only add overhead
             x = self.features.fit_transform(_rows(list(texts)))  # type: ignore[attr-defined]
@@ -150,6 +149,23 @@ class IntentClassifier:
         self.labels: tuple[str, ...] = tuple(model.classes_)
         self.coef = model.coef_.T.copy()
         self.intercept = model.intercept_.copy()
+
+    def probabilities(self, text: str) -> np.ndarray:
+        """The probability of each of :attr:`labels` for ``text``."""
+        z = np.asarray(self.features.transform(_rows([text])) @ self.coef)[0] + self.intercept
+        probs = np.exp(z - z.max())
+        return probs / probs.sum()
+
+
+class IntentClassifier:
+    """TF-IDF + logistic regression over :data:`LABELS`, plus cue-word bonuses."""
+
+    def __init__(self, examples: list[tuple[str, str]] | None = None,
+                 cue_bonus: float = CUE_BONUS) -> None:
+        self.model = TextModel(examples if examples is not None
+                               else load_utterances(TRAIN_FILE))
+        self.labels = self.model.labels
+        self.cue_bonus = cue_bonus
 
     @classmethod
     @cache
@@ -160,9 +176,7 @@ class IntentClassifier:
     def scores(self, text: str) -> tuple[dict[str, float], tuple[str, ...]]:
         """Normalised scores per label (model probability plus cue bonus) and the cues hit."""
         t = normalise(text)
-        z = np.asarray(self.features.transform(_rows([text])) @ self.coef)[0] + self.intercept
-        probs = np.exp(z - z.max())
-        probs /= probs.sum()
+        probs = self.model.probabilities(text)
         hits = tuple(label for label, cue in _CUES.items() if cue.search(t))
         raw = {label: float(p) + (self.cue_bonus if label in hits else 0.0)
                for label, p in zip(self.labels, probs, strict=True)}

@@ -20,6 +20,7 @@ from app.mind.preferences.config import FeedbackConfig, load_feedback_config
 from app.mind.preferences.evaluation.evaluate import run_arm, summarise
 from app.mind.preferences.memory import Memory, load_memory, save_memory
 from app.run import prepare_scenario, run_scenario
+from dialogue.feedback import evaluate_feedback
 
 ROOT = Path(__file__).resolve().parents[1]
 H = Homeostasis(load_personality())
@@ -87,6 +88,14 @@ def test_a_user_who_scolds_every_charge_cannot_stop_the_robot_charging(abstract)
     assert (arm.taste[:, charge] == -1).all()
 
 
+def test_spoken_praise_and_scolding_are_heard_and_never_confused() -> None:
+    result = evaluate_feedback()
+    assert result["accuracy"] >= 0.8
+    assert result["per_kind"]["none"] == 1.0       # no question or chat taken for feedback
+    flips = [m for m in result["misses"] if "none" not in (m["expected"], m["got"])]
+    assert flips == []                             # praise never heard as scolding, nor back
+
+
 def test_the_memory_file_round_trips_and_refuses_what_is_not_one(tmp_path, capsys) -> None:
     memory = Memory("home")
     memory.learn("Ann", "sing_dance", -1, 0.5)
@@ -125,15 +134,16 @@ def test_feedback_is_credited_to_the_action_it_follows_and_remembered(tmp_path) 
     memory = tmp_path / "memory" / "living_room.json"
     events = household_run(tmp_path, "living_room.yaml", "run", 0, 62, [
         {"at": 30, "feedback": "negative"},                     # while chatting
+        {"at": 40, "say": "Stop that, please."},                # heard as a scolding
         {"at": 55, "feedback": "positive", "about": "chat"},    # chat ended 6 s before
         {"at": 56, "feedback": "positive", "about": "sing_dance"}], memory=memory)
     credited = [(e["person"], e["action"], e["reward"]) for e in events
                 if e["kind"] == "credited"]
-    assert credited == [("Grace", "chat", -1), ("Grace", "chat", 1)]
-    assert sum(e["kind"] == "feedback" for e in events) == 3   # the third: never danced
+    assert credited == [("Grace", "chat", -1), ("Grace", "chat", -1), ("Grace", "chat", 1)]
+    assert sum(e["kind"] == "feedback" for e in events) == 4   # the last: never danced
     saved = load_memory(memory, "")
-    assert saved.events == {"Grace": 2, "*household*": 2}
-    assert saved.table("Grace")[ACTIONS.index("chat")] == pytest.approx(0.09)
+    assert saved.events == {"Grace": 3, "*household*": 3}
+    assert saved.table("Grace")[ACTIONS.index("chat")] == pytest.approx(-0.057)
 
 
 def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:

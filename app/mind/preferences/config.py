@@ -23,6 +23,12 @@ class AdaptationConfig(StrictModel):
     person_window_s: float = Field(gt=0, le=86400)
 
 
+class SpokenConfig(StrictModel):
+    """Praise and scolding heard in what people say."""
+
+    threshold: float = Field(gt=0, le=1)
+
+
 class Reaction(StrictModel):
     """Chances of praise and of scolding when a user reacts to an action."""
 
@@ -73,6 +79,7 @@ class FeedbackConfig(StrictModel):
     """Everything about feedback: the robot's adaptation and the simulated users."""
 
     adaptation: AdaptationConfig
+    spoken: SpokenConfig
     simulated_users: SimulatedUsers
 
 
