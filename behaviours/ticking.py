@@ -2,8 +2,9 @@
 
 Every tree that runs in a simulated household (``companion run``, the skill harness, the
 benchmarks) is ticked through :class:`SimulationTree`, so the order within one tick is
-written once: the simulation steps, its social events go to the context's inbox (Sense
-reads them), the context's clock moves to the simulation's time, then the tree ticks.
+written once: the simulation is shown what the robot is doing (people may react to it),
+it steps, its social events go to the context's inbox (Sense reads them), the context's
+clock moves to the simulation's time, then the tree ticks.
 """
 
 from __future__ import annotations
@@ -27,7 +28,9 @@ class SimulationTree(py_trees.trees.BehaviourTree):
         self.add_pre_tick_handler(self.advance)
 
     def advance(self, tree: py_trees.trees.BehaviourTree) -> None:
-        """Step the simulation; its social events to the inbox; the clock to its time."""
+        """Show the simulation the running action; step it; its social events to the inbox;
+        the clock to its time."""
+        self.sim.show(py_trees.blackboard.Blackboard.storage.get("/action"))
         self.ctx.inbox.extend(self.sim.step())
         self.ctx.clock.t = self.sim.t
 

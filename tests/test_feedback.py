@@ -158,3 +158,18 @@ def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:
     actions = [e for e in remembered if e["kind"] == "action"]
     assert not any(e["action"] == "ask_question" for e in actions)
     assert any(e["reason"] == "preference" for e in actions)
+
+
+def test_people_say_what_they_think_of_what_the_robot_does() -> None:
+    from app.sim.hearing import HeardLine
+    from app.sim.simulation import Simulation
+    from dialogue.feedback import FeedbackClassifier
+
+    heard: list[tuple[str, str]] = []
+    with Simulation.from_file(ROOT / "worlds" / "dislikes_dancing.yaml") as sim:
+        for action, seconds in (("stand_by", 20), ("sing_dance", 20), ("chat", 20)):
+            sim.show(action)
+            for _ in range(round(seconds / sim.dt)):
+                heard += [(action, e.text) for e in sim.step() if isinstance(e, HeardLine)]
+    words = FeedbackClassifier.default()
+    assert [(a, words.value(text)) for a, text in heard] == [("sing_dance", -1), ("chat", 1)]

@@ -127,13 +127,33 @@ class Event(StrictModel):
         return next(k for k in (*PHYSICAL, *SOCIAL) if getattr(self, k) is not None)
 
 
+class Tastes(StrictModel):
+    """What a person thinks of the robot's actions, and says so when they see one in the
+    same room (app/sim/reactions.py): ``likes`` get praise, ``dislikes`` a scolding."""
+
+    likes: tuple[Action, ...] = ()
+    dislikes: tuple[Action, ...] = ()
+    chance: float = Field(default=1.0, ge=0, le=1)   # of reacting to each action they see
+    after_s: float = Field(default=8.0, gt=0, le=3600)  # seconds into the action
+    distance_m: float = Field(default=6.0, gt=0, le=100)  # at most this far from the robot
+
+    @model_validator(mode="after")
+    def _disjoint(self) -> Tastes:
+        both = set(self.likes) & set(self.dislikes)
+        if both:
+            raise ValueError(f"liked and disliked at once: {sorted(both)}")
+        return self
+
+
 class PersonSpec(StrictModel):
-    """A person: looks, where they are at the start (absent if no ``start``), timed events."""
+    """A person: looks, where they are at the start (absent if no ``start``), timed events,
+    and tastes for what the robot does."""
 
     name: str = Field(min_length=1)
     body: Body = Body()
     start: Start | None = None
     events: tuple[Event, ...] = ()
+    tastes: Tastes = Tastes()
 
 
 InitialDrives = create_model(  # one optional field per drive name, each in [0, 1]

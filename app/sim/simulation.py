@@ -10,6 +10,7 @@ from pathlib import Path
 import pybullet as p
 
 from app.sim.hearing import HeardLine, Microphones
+from app.sim.reactions import Reactions
 from app.sim.robot import Robot, load_robot_config
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.speech import speech_seconds
@@ -46,6 +47,7 @@ class Simulation:
         self.robot.set_lighting(self.world.light.camera_kwargs())
         self.robot.set_battery(scenario.robot.battery)
         self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
+        self.reactions = Reactions(scenario)
         self._speaking: list[tuple[float, SayEvent]] = []   # (when it ends, the line)
 
     @classmethod
@@ -58,7 +60,9 @@ class Simulation:
         said as heard)."""
         t_next = (self.steps + 1) * self.dt
         events: list[SocialEvent | HeardLine] = []
-        for e in self.world.advance(self.t, t_next):
+        x, y, _ = self.robot.pose()
+        said = self.world.advance(self.t, t_next) + self.reactions.react(t_next, self.world, (x, y))
+        for e in said:
             if isinstance(e, SayEvent):
                 self._speaking.append((e.t + speech_seconds(e.text), e))
             else:
@@ -70,6 +74,11 @@ class Simulation:
         self.steps += 1
         self.t = t_next
         return events
+
+    def show(self, action: str | None) -> None:
+        """What the robot is doing now, as the people around can see it (they may react:
+        :mod:`app.sim.reactions`)."""
+        self.reactions.show(self.t, action)
 
     def _hear(self, event: SayEvent) -> HeardLine:
         x, y, yaw = self.robot.pose()

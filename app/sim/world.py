@@ -631,6 +631,10 @@ class World:
         """Height (m) of the top of the furniture item ``name`` (KeyError: no such item)."""
         return self._tops[name]
 
+    def room_at(self, x: float, y: float) -> str | None:
+        """The name of the room holding ``(x, y)``, or None (a wall, outside)."""
+        return next((r.name for r in self.scenario.rooms if r.contains(x, y, 0.0)), None)
+
     def room_bounds(self) -> dict[str, tuple[float, float, float, float]]:
         """``(x_min, y_min, x_max, y_max)`` of each room, by name."""
         return {r.name: (r.x[0], r.y[0], r.x[1], r.y[1]) for r in self.scenario.rooms}
