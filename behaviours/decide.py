@@ -108,5 +108,5 @@ class Decide(ContextBehaviour):
         who = person[0] if person and self.now - person[1] <= cfg.person_window_s else None
         q = self.policy.q_values(motivations)[None]
         safe = safe_actions(self.ctx.homeostasis, self.bb.drives[None], cfg.safety_margin)
-        pick = int(adapted_actions(q, memory.table(who)[None], safe, cfg.weight)[0])
+        pick = int(adapted_actions(q, memory.table(who)[None], safe, cfg.weights)[0])
         return ACTIONS[pick], "policy" if pick == int(q.argmax()) else "preference"

@@ -46,7 +46,7 @@ def test_preferences_pick_among_safe_actions_only() -> None:
     liked[:, 2] = 1.0                                            # ... the person, find people
     safe = np.ones((2, len(ACTIONS)), bool)
     safe[1, 2] = False
-    assert adapted_actions(q, liked, safe, 8.0).tolist() == [2, 6]  # unsafe: the DQN's own
+    assert adapted_actions(q, liked, safe, (8.0, 8.0)).tolist() == [2, 6]  # unsafe: the DQN's own
     near = np.array([[0.5, 0.5, 0.5, 0.5, 0.5, 0.5], [0.849, 0.5, 0.5, 0.5, 0.5, 0.5]])
     allowed = safe_actions(H, near, 0.05)
     assert allowed[0].all() and not allowed[1, ACTIONS.index("rest")]
@@ -67,7 +67,7 @@ def abstract():
 def test_simulated_users_who_dislike_dancing_see_less_of_it(abstract) -> None:
     policy, env = abstract
     cfg = users({"dislikes_dancing": {"share": 0.5, "dislikes": ["sing_dance"]},
-                 "loves_questions": {"share": 0.5, "likes": ["ask_question"]}})
+                 "quiet_please": {"share": 0.5, "likes": ["sing_dance"], "dislikes": ["chat"]}})
     arms = {m: run_arm(m, policy, H, env, cfg, 60, 3, 3600) for m in ("none", "adapt")}
     summary = summarise(arms, 10)
     assert summary["disliked_share_drop"] >= 0.6

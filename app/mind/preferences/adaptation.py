@@ -3,7 +3,9 @@
 A person's preference ``p_a`` for action ``a`` is a running average of the external
 rewards (eq. 3.7's r_external: +1 praise, -1 scolding) that followed ``a``:
 ``p_a <- p_a + alpha (r - p_a)``. The robot then picks ``argmax_a Q(s, a) + beta p_a``: the
-DQN's value of the action plus beta times the feedback it expects. Adaptation must never
+DQN's value of the action plus beta times the feedback it expects, with a larger beta for
+what a person dislikes than for what they like (a scolding asks the robot to stop; praise
+need not make it repeat an action for ever). Adaptation must never
 cost safety, so an action other than the DQN's own choice is allowed only while no drive
 could reach ``secure_threshold - margin`` before it ends (:func:`safe_actions`). Every
 function works on batches (a leading axis of people or simulated users).
@@ -50,11 +52,14 @@ def safe_actions(h: Homeostasis, drives: np.ndarray, margin: float) -> np.ndarra
 
 
 def adapted_actions(q: np.ndarray, prefs: np.ndarray, safe: np.ndarray,
-                    weight: float) -> np.ndarray:
-    """The actions that maximise ``q + weight * prefs`` among the safe ones and the DQN's
-    own choice (``argmax q``), which is always allowed."""
+                    weights: tuple[float, float]) -> np.ndarray:
+    """The actions that maximise ``q + w prefs`` among the safe ones and the DQN's own
+    choice (``argmax q``), which is always allowed; ``weights``: ``w`` for a disliked
+    action (``prefs < 0``) and for a liked one."""
     own = q.argmax(axis=-1)
     allowed = safe.copy()
     allowed[np.arange(len(own)), own] = True
-    score = np.where(allowed, q + weight * prefs, -np.inf)
+    disliked, liked = weights
+    bonus = np.where(prefs < 0, disliked, liked) * prefs
+    score = np.where(allowed, q + bonus, -np.inf)
     return score.argmax(axis=-1)

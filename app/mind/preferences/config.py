@@ -17,7 +17,13 @@ class AdaptationConfig(StrictModel):
     """How the robot turns feedback into choices (docs/feedback.md)."""
 
     learning_rate: float = Field(gt=0, le=1)
-    weight: float = Field(ge=0, le=1000)
+    weight_disliked: float = Field(ge=0, le=1000)
+    weight_liked: float = Field(ge=0, le=1000)
+
+    @property
+    def weights(self) -> tuple[float, float]:
+        """``(weight_disliked, weight_liked)``."""
+        return self.weight_disliked, self.weight_liked
     safety_margin: float = Field(ge=0, le=1)
     credit_window_s: float = Field(gt=0, le=3600)
     person_window_s: float = Field(gt=0, le=86400)

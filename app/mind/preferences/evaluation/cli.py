@@ -17,7 +17,8 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("feedback", help="adaptation to simulated users' feedback",
                        description="Run the shipped DQN in the abstract household with "
                        "simulated users who praise and scold by hidden tastes: without "
-                       "adaptation, with it, and with it but no memory between sessions. "
+                       "adaptation, with it, and with it but no memory between sessions; "
+                       "then households of two users with a table per person or one shared. "
                        "Writes metrics.json and learning curves (docs/feedback.md).")
     p.add_argument("--users", type=integer(1, 100_000), default=1000,
                    help="simulated users, one household each (default 1000)")
@@ -43,7 +44,7 @@ def run_eval(args: argparse.Namespace) -> int:
     from app.mind.policy.agent import DQNPolicy
     from app.mind.policy.config import load_policy_config
     from app.mind.preferences.config import load_feedback_config
-    from app.mind.preferences.evaluation.evaluate import MODES, run_arm, summarise
+    from app.mind.preferences.evaluation.evaluate import run_arm, summarise
     from app.mind.preferences.evaluation.plots import learning_curves
 
     cfg = load_feedback_config(args.config)
@@ -51,26 +52,36 @@ def run_eval(args: argparse.Namespace) -> int:
     steps = round(args.hours * 3600)
     env_cfg = load_policy_config().env.model_copy(update={"episode_steps": steps})
     policy = DQNPolicy.load()
-    arms = {mode: run_arm(mode, policy, h, env_cfg, cfg, args.users, args.seed,
-                          round(args.session_hours * 3600)) for mode in MODES}
-    summary = summarise(arms, args.events)
-    summary.update(users=args.users, seed=args.seed, hours=args.hours,
-                   session_hours=args.session_hours, config=cfg.model_dump(mode="json"))
+    session = round(args.session_hours * 3600)
+    one = {mode: run_arm(mode, policy, h, env_cfg, cfg, args.users, args.seed, session)
+           for mode in ("none", "adapt", "no_memory")}
+    two = {mode: run_arm(mode, policy, h, env_cfg, cfg, args.users // 2, args.seed, session,
+                         people=2) for mode in ("none", "adapt", "shared")}
+    summary = summarise(one, args.events)
+    summary.update(two_users=summarise(two, args.events), users=args.users, seed=args.seed,
+                   hours=args.hours, session_hours=args.session_hours,
+                   config=cfg.model_dump(mode="json"))
     args.out.mkdir(parents=True, exist_ok=True)
     atomic_write_bytes(args.out / "metrics.json", (json.dumps(summary, indent=2) + "\n").encode())
     plot = learning_curves(summary, args.out / "plots")
     if args.json:
         print(json.dumps(summary))
         return 0
-    print(f"{args.users} simulated users, {args.hours:g} h each; after {args.events} feedback "
-          "events:")
-    print("| arm | RSR % | disliked share (without) | drop | liked share (without) | gain "
-          "| internal reward / h |")
-    print("|---|---|---|---|---|---|---|")
-    for mode, r in summary["arms"].items():
-        print(f"| {mode} | {100 * r['rsr']:.3f} | {r['disliked_share']:.4f} "
-              f"({r['disliked_share_without']:.4f}) | {r['disliked_share_drop']:+.1%} "
-              f"| {r['liked_share']:.4f} ({r['liked_share_without']:.4f}) "
-              f"| {r['liked_share_gain']:+.1%} | {r['reward_per_hour']:.1f} |")
+    print(f"{args.users} simulated users, {args.hours:g} h each; shares once a user had "
+          f"given {args.events} feedback events:")
+    print(table(summary["arms"], "one user per household"))
+    print(table(summary["two_users"]["arms"], "two users per household"))
     print(f"\nmetrics.json and {plot.name} in {args.out}")
     return 0
+
+
+def table(arms: dict, title: str) -> str:
+    """A Markdown table of the arms' figures."""
+    lines = [f"\n{title}:", "| arm | RSR % | disliked share (without) | drop | liked share "
+             "(without) | gain | internal reward / h |", "|---|---|---|---|---|---|---|"]
+    for mode, r in arms.items():
+        lines.append(f"| {mode} | {100 * r['rsr']:.3f} | {r['disliked_share']:.4f} "
+                     f"({r['disliked_share_without']:.4f}) | {r['disliked_share_drop']:+.1%} "
+                     f"| {r['liked_share']:.4f} ({r['liked_share_without']:.4f}) "
+                     f"| {r['liked_share_gain']:+.1%} | {r['reward_per_hour']:.1f} |")
+    return "\n".join(lines)

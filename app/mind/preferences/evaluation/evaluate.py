@@ -1,6 +1,7 @@
 """Adapting to simulated users in the abstract household (the policy's training env).
 
-Each household has one simulated user with hidden tastes (:mod:`.users`). The robot runs
+Each household has one simulated user with hidden tastes (:mod:`.users`), or two for the
+shared-table ablation. The robot runs
 the shipped DQN; with adaptation it learns the user's preferences from their feedback and
 chooses with them (:mod:`app.mind.preferences.adaptation`). Every arm replays the same
 seeded households and users, so arms are paired. Time is counted per user, by the user's
@@ -23,9 +24,10 @@ from app.mind.preferences.adaptation import adapted_actions, learn, safe_actions
 from app.mind.preferences.config import FeedbackConfig
 from app.mind.preferences.evaluation.users import DISLIKE, LIKE, react, sample_population
 
-MODES = ("none", "adapt", "no_memory")
-# none: the DQN alone; adapt: the user's preferences learnt and kept; no_memory: learnt,
-# but forgotten whenever a new session starts (a robot without --memory, every day anew).
+MODES = ("none", "adapt", "no_memory", "shared")
+# none: the DQN alone; adapt: each user's preferences learnt and kept; no_memory: learnt,
+# but forgotten whenever a new session starts (a robot without --memory, every day anew);
+# shared: one table for the whole household, whoever gave the feedback.
 BIN = 10     # feedback events per learning-curve bin
 BINS = 10    # bins 0-9, 10-19, ..., 90 and more
 
@@ -47,23 +49,33 @@ class Arm:
 
 
 def run_arm(mode: str, policy: DQNPolicy, h: Homeostasis, env_cfg: EnvConfig,
-            cfg: FeedbackConfig, users: int, seed: int, session_steps: int) -> Arm:
-    """One episode (``env_cfg.episode_steps``) in each of ``users`` seeded households."""
+            cfg: FeedbackConfig, households: int, seed: int, session_steps: int,
+            people: int = 1) -> Arm:
+    """One episode (``env_cfg.episode_steps``) in each of ``households`` seeded households
+    of ``people`` users (1 or 2). With two, whoever arrives is one of them at random; the
+    robot knows who, and a user's time counts while they are present. ``shared`` keeps one
+    preference table per household instead of one per person."""
+    users = households * people
     pop = sample_population(cfg.simulated_users, users, np.random.default_rng(seed))
-    env, rng = VecHomeostasisEnv(h, env_cfg, users, seed), np.random.default_rng(seed + 1)
-    prefs = np.zeros_like(pop.praise)
+    env, rng = VecHomeostasisEnv(h, env_cfg, households, seed), np.random.default_rng(seed + 1)
+    prefs = np.zeros((households if mode == "shared" else users, len(pop.praise[0])))
     arm = Arm(mode, pop.kind, pop.taste, np.zeros((users, BINS, 3)), np.zeros(users, int))
-    done = np.zeros(users, bool)
+    who = np.arange(households) * people      # the user present, or the last one present
+    was_present = env.human.copy()
+    done = np.zeros(households, bool)
     adapt = cfg.adaptation
+
+    def rows(idx: np.ndarray) -> np.ndarray:
+        return idx if mode == "shared" else who[idx]
 
     def decide(idx: np.ndarray, obs: np.ndarray) -> np.ndarray:
         q = policy.q_values(obs)
         if mode == "none" or done[idx].all():
             return q.argmax(axis=-1)
         safe = safe_actions(h, env.drives[idx], adapt.safety_margin)
-        return adapted_actions(q, prefs[idx], safe, adapt.weight)
+        return adapted_actions(q, prefs[rows(idx)], safe, adapt.weights)
 
-    env.act(np.arange(users), decide(np.arange(users), env.observe()))
+    env.act(np.arange(households), decide(np.arange(households), env.observe()))
     while not done.all():
         d = env.advance()
         for i, stats in zip(d.ended, d.episodes, strict=True):
@@ -72,16 +84,23 @@ def run_arm(mode: str, policy: DQNPolicy, h: Homeostasis, env_cfg: EnvConfig,
                 arm.steps += stats["steps"]
                 arm.reward += stats["return"]
         live = ~done[d.idx]
-        idx, act = d.idx[live], d.action[live]
-        bins = np.minimum(arm.feedback[idx] // BIN, BINS - 1)
-        np.add.at(arm.time, (idx, bins, pop.taste[idx, act] + 1), h.duration[act])
-        fb = react(pop, idx, act, env.human[idx], cfg.simulated_users.react_prob, rng)
-        arm.feedback[idx] += fb != 0
+        idx, act, present = d.idx[live], d.action[live], env.human[d.idx[live]]
+        if people > 1:   # someone came since the last decision: one of them, at random
+            came = present & ~was_present[idx]
+            who[idx[came]] = idx[came] * people + rng.integers(0, people, int(came.sum()))
+        was_present[d.idx] = env.human[d.idx]
+        user = who[idx]
+        seen = present if people > 1 else np.ones(len(idx), bool)
+        bins = np.minimum(arm.feedback[user] // BIN, BINS - 1)
+        np.add.at(arm.time, (user[seen], bins[seen], pop.taste[user, act][seen] + 1),
+                  h.duration[act[seen]])
+        fb = react(pop, user, act, present, cfg.simulated_users.react_prob, rng)
+        arm.feedback[user] += fb != 0
         if mode != "none":
-            learn(prefs, idx, act, fb, adapt.learning_rate)
+            learn(prefs, rows(idx), act, fb, adapt.learning_rate)
         if mode == "no_memory":   # a session began during the action: a blank memory
             began = env.t[idx] // session_steps != (env.t[idx] - h.duration[act]) // session_steps
-            prefs[idx[began]] = 0.0
+            prefs[rows(idx[began])] = 0.0
         done[d.ended] = True
         env.act(d.idx, decide(d.idx, d.decide_obs))   # finished households idle on, unrecorded
     return arm
