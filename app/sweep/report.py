@@ -117,7 +117,7 @@ def _markdown(summary: dict, flat: list[dict[str, Any]], metrics: dict[str, str]
     lines += ["| world | option | runs done | " + " | ".join(metrics.values()) + " |",
               "|---|---|---|" + "---|" * len(metrics)]
     for (world, option), s in summary.items():
-        cells = ["-" if s[m] is None else f"{s[m][0]:.4g} ± {s[m][1]:.2g}" for m in metrics]
+        cells = ["-" if s[m] is None else f"{s[m][0]:.4g} ± {s[m][1]:.3g}" for m in metrics]
         lines.append(f"| {world} | {option} | {s['done']}/{s['runs']} | " + " | ".join(cells)
                      + " |")
     bad = [r for r in flat if r["error"] or r["checks_failed"]]

@@ -19,6 +19,7 @@ from pydantic import Field, model_validator
 
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
 from app.core.limits import MAX_DURATION_S, SEED_MAX
+from app.core.paths import REPO_ROOT
 
 GRID_KEYS = {"world": "worlds", "personality": "personalities", "policy": "policies",
              "faults": "faults"}
@@ -85,8 +86,11 @@ class Entry:
 
     @property
     def key(self) -> str:
-        """A short hash of the entry: its folder name and the mark of its metrics."""
-        text = json.dumps(asdict(self), sort_keys=True)  # type: ignore[call-overload]
+        """A short hash of the entry: its folder name and the mark of its metrics. Files of
+        the project count by their path within it, so a clone elsewhere (another machine,
+        another folder) finds its finished runs."""
+        fields = {k: _portable(v) for k, v in asdict(self).items()}  # type: ignore[call-overload]
+        text = json.dumps(fields, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:12]
 
     def option(self) -> str:
@@ -129,6 +133,13 @@ class TrainRun(Entry):
     def name(self) -> str:
         """The training's folder name: seed and the entry's hash."""
         return f"train-policy-seed{self.seed}-{self.key}"
+
+
+def _portable(value: object) -> object:
+    """A path inside the project as its path from the project's root; anything else as is."""
+    if isinstance(value, str) and value.startswith(str(REPO_ROOT) + "/"):
+        return value[len(str(REPO_ROOT)) + 1:]
+    return value
 
 
 def _absolute(base: Path, path: Path | None) -> str | None:

@@ -19,7 +19,9 @@ def learning_curves(summary: dict[str, Any], out: Path) -> Path:
     """``learning_curves.png``: one panel per user type, a line per arm and taste."""
     out.mkdir(parents=True, exist_ok=True)
     arms = summary["arms"]
-    kinds = sorted(next(iter(arms.values()))["curves"])
+    curves = next(iter(arms.values()))["curves"]
+    kinds = sorted(k for k, c in curves.items()   # users with no taste have nothing to show
+                   if any(v for taste in c.values() for v in taste))
     fig, axes = plt.subplots(1, len(kinds), figsize=(4 * len(kinds), 3.4), sharey=True,
                              squeeze=False)
     for ax, kind in zip(axes[0], kinds, strict=True):
