@@ -7,7 +7,8 @@ it dance and praises a chat) twice as `companion run` processes at once: with
 `--no-adaptation` (feedback heard and credited, the DQN alone chooses) and with
 `--no-memory` (the robot adapts during the run, starting from nothing). For each it prints
 the dances started after the third scolding of dancing, per hour, the chats per hour over
-the same span, and RSR.
+the same span, and RSR. A robot that stops dancing after the first scolding is never
+scolded three times: its span then starts at its last scolding.
 """
 
 from __future__ import annotations
@@ -23,12 +24,14 @@ ARMS = {"without adaptation": "--no-adaptation", "adapting": "--no-memory"}
 
 
 def figures(folder: Path) -> dict[str, float]:
-    """Dances and chats per hour after the third credited scolding of dancing, and RSR."""
+    """Dances and chats per hour after the third credited scolding of dancing (after the
+    last one when there were fewer: a robot that stops after one is never scolded thrice),
+    and RSR."""
     events = [json.loads(line) for line in (folder / "events.jsonl").open()]
     end = events[-1]["t"]
     scolded = [e["t"] for e in events if e["kind"] == "credited"
                and e["action"] == "sing_dance" and e["reward"] < 0]
-    since = scolded[2] if len(scolded) >= 3 else end
+    since = scolded[min(2, len(scolded) - 1)] if scolded else 0.0
     hours = max(end - since, 1e-9) / 3600
 
     def started(action: str) -> int:
@@ -56,10 +59,11 @@ def main() -> None:
         if proc.wait() != 0:
             sys.exit(f"{arm}: companion run exited {proc.returncode}")
     rows = {arm: figures(args.out / f"{flag[2:]}-seed{args.seed}") for arm, flag in ARMS.items()}
-    print(f"seed {args.seed}: | arm | third scolding s | dances / h after | chats / h after "
+    print(f"seed {args.seed}: | arm | scoldings | span from s | dances / h after | chats / h after "
           "| RSR % | choices by preference |")
     for arm, r in rows.items():
-        print(f"| {arm} | {r['third_scolding_s']:.0f} | {r['dances_per_hour']:.2f} "
+        print(f"| {arm} | {r['scoldings']} | {r['third_scolding_s']:.0f} "
+              f"| {r['dances_per_hour']:.2f} "
               f"| {r['chats_per_hour']:.2f} | {100 * r['rsr']:.2f} "
               f"| {r['choices_by_preference']} |")
     base, adapt = rows["without adaptation"], rows["adapting"]

@@ -4,9 +4,9 @@ other.
 
 People watch the robot, so the simulation is told what the robot is doing
 (:meth:`app.sim.simulation.Simulation.show`); the robot itself learns of a reaction only
-by hearing it. A person reacts at most once to each run of an action, ``after_s`` seconds
-into it, when they are in the same room as the robot and at most ``distance_m`` from it,
-with probability ``chance`` (seeded by the scenario's seed).
+by hearing it. A person reacts at most once to each run of an action, once it has run
+``after_s`` seconds and they are in the same room as the robot, at most ``distance_m`` from
+it, with probability ``chance`` (seeded by the scenario's seed).
 """
 
 from __future__ import annotations
@@ -52,11 +52,12 @@ class Reactions:
             if (feeling is None or name in self.done or name not in where
                     or t - self.since < tastes.after_s):
                 continue
-            self.done.add(name)
             pose = where[name]
             near = math.hypot(pose.x - robot_xy[0], pose.y - robot_xy[1]) <= tastes.distance_m
-            same_room = world.room_at(pose.x, pose.y) == world.room_at(*robot_xy)
-            if near and same_room and self.rng.random() < tastes.chance:
+            if not near or world.room_at(pose.x, pose.y) != world.room_at(*robot_xy):
+                continue   # not seen yet: they may come and see it later in this run
+            self.done.add(name)
+            if self.rng.random() < tastes.chance:
                 lines = LINES[feeling]
                 out.append(SayEvent(t, name, lines[int(self.rng.integers(len(lines)))], "robot"))
         return out
