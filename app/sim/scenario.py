@@ -19,6 +19,7 @@ from pydantic import Field, create_model, model_validator
 from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
 from app.core.limits import MAX_DURATION_S, SEED_MAX
 from app.mind.personality import DRIVES, Action, load_personality
+from app.mind.preferences.config import TasteLists
 from app.sim.layout import (
     ROOM_MARGIN,
     Colour,
@@ -127,22 +128,13 @@ class Event(StrictModel):
         return next(k for k in (*PHYSICAL, *SOCIAL) if getattr(self, k) is not None)
 
 
-class Tastes(StrictModel):
+class Tastes(TasteLists):
     """What a person thinks of the robot's actions, and says so when they see one in the
     same room (app/sim/reactions.py): ``likes`` get praise, ``dislikes`` a scolding."""
 
-    likes: tuple[Action, ...] = ()
-    dislikes: tuple[Action, ...] = ()
     chance: float = Field(default=1.0, ge=0, le=1)   # of reacting to each action they see
     after_s: float = Field(default=8.0, gt=0, le=3600)  # seconds into the action
     distance_m: float = Field(default=6.0, gt=0, le=100)  # at most this far from the robot
-
-    @model_validator(mode="after")
-    def _disjoint(self) -> Tastes:
-        both = set(self.likes) & set(self.dislikes)
-        if both:
-            raise ValueError(f"liked and disliked at once: {sorted(both)}")
-        return self
 
 
 class PersonSpec(StrictModel):

@@ -48,10 +48,10 @@ class Reaction(StrictModel):
         return self
 
 
-class UserType(StrictModel):
-    """One kind of simulated user: their share of the population and their tastes."""
+class TasteLists(StrictModel):
+    """Actions someone likes and dislikes (never both); simulated users and scenario people
+    have them."""
 
-    share: Probability
     likes: tuple[Action, ...] = ()
     dislikes: tuple[Action, ...] = ()
 
@@ -61,6 +61,12 @@ class UserType(StrictModel):
         if both:
             raise ValueError(f"liked and disliked at once: {sorted(both)}")
         return self
+
+
+class UserType(TasteLists):
+    """One kind of simulated user: their share of the population and their tastes."""
+
+    share: Probability
 
 
 class SimulatedUsers(StrictModel):
