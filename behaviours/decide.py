@@ -25,7 +25,7 @@ import numpy as np
 from py_trees.common import Status
 
 from app.mind.personality import ACTIONS, DRIVES, STIMULI
-from app.mind.preferences.adaptation import adapted_actions, safe_actions
+from app.mind.preferences.adaptation import choose
 from behaviours.context import Context
 from behaviours.listening import pending
 from behaviours.skill import ContextBehaviour
@@ -107,6 +107,6 @@ class Decide(ContextBehaviour):
         cfg, person = self.ctx.adaptation, self.bb.person
         who = person[0] if person and self.now - person[1] <= cfg.person_window_s else None
         q = self.policy.q_values(motivations)[None]
-        safe = safe_actions(self.ctx.homeostasis, self.bb.drives[None], cfg.safety_margin)
-        pick = int(adapted_actions(q, memory.table(who)[None], safe, cfg.weights)[0])
+        pick = int(choose(self.ctx.homeostasis, q, memory.table(who)[None],
+                          self.bb.drives[None], cfg)[0])
         return ACTIONS[pick], "policy" if pick == int(q.argmax()) else "preference"

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from app.mind.homeostasis import Homeostasis
+from app.mind.preferences.config import AdaptationConfig
 
 
 def learn(prefs: np.ndarray, rows: np.ndarray, actions: np.ndarray, feedback: np.ndarray,
@@ -63,3 +64,11 @@ def adapted_actions(q: np.ndarray, prefs: np.ndarray, safe: np.ndarray,
     bonus = np.where(prefs < 0, disliked, liked) * prefs
     score = np.where(allowed, q + bonus, -np.inf)
     return score.argmax(axis=-1)
+
+
+def choose(h: Homeostasis, q: np.ndarray, prefs: np.ndarray, drives: np.ndarray,
+           cfg: AdaptationConfig) -> np.ndarray:
+    """The adapted choice for a batch: :func:`adapted_actions` among the actions
+    :func:`safe_actions` allows for these ``drives``, with ``cfg``'s margin and weights."""
+    safe = safe_actions(h, drives, cfg.safety_margin)
+    return adapted_actions(q, prefs, safe, cfg.weights)

@@ -20,7 +20,7 @@ from app.mind.homeostasis import Homeostasis
 from app.mind.policy.agent import DQNPolicy
 from app.mind.policy.config import EnvConfig
 from app.mind.policy.training.env import VecHomeostasisEnv
-from app.mind.preferences.adaptation import adapted_actions, learn, safe_actions
+from app.mind.preferences.adaptation import choose, learn
 from app.mind.preferences.config import FeedbackConfig
 from app.mind.preferences.evaluation.users import DISLIKE, LIKE, react, sample_population
 
@@ -72,8 +72,7 @@ def run_arm(mode: str, policy: DQNPolicy, h: Homeostasis, env_cfg: EnvConfig,
         q = policy.q_values(obs)
         if mode == "none" or done[idx].all():
             return q.argmax(axis=-1)
-        safe = safe_actions(h, env.drives[idx], adapt.safety_margin)
-        return adapted_actions(q, prefs[rows(idx)], safe, adapt.weights)
+        return choose(h, q, prefs[rows(idx)], env.drives[idx], adapt)
 
     env.act(np.arange(households), decide(np.arange(households), env.observe()))
     while not done.all():
