@@ -24,6 +24,7 @@ import yaml
 from tqdm import tqdm
 
 from app.core.checkpoint import atomic_write_bytes
+from app.core.profiling import Profile
 from app.core.run_folder import RunFolderError, claim, release
 from app.core.signals import shielded, signal_name, terminable
 from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
@@ -65,6 +66,13 @@ class FrameSaver:
 
     def __call__(self, tag: str, frame: np.ndarray, scene: SceneGraph | None = None
                  ) -> str | None:
+        """:meth:`save`."""
+        return self.save(tag, frame, scene)
+
+    def save(self, tag: str, frame: np.ndarray, scene: SceneGraph | None = None
+             ) -> str | None:
+        """Save ``frame`` (and ``scene`` beside it) under ``tag``; its file name, or None
+        when none is left of its kind or it can't be encoded."""
         kind = "photo" if tag == "photo" else "key"
         if frame is None or self.left[kind] <= 0:
             return None
@@ -97,31 +105,50 @@ class HouseholdRun:
     saver: FrameSaver
     out: Path
     timeline: TimelineWriter | None = None
+    profile: Profile | None = None
 
 
-def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
-              policy_path: Path | None = None, behaviour_config: Path | None = None,
-              audio: bool = False, faults: FaultSpec | None = None,
-              memory: Path | None = None, adapt: bool = True,
-              threads: int | None = None) -> HouseholdRun:
+@dataclass(frozen=True)
+class RunOptions:
+    """How a household run is made, beyond its scenario.
+
+    ``gui``: a PyBullet window. ``policy_path``: the DQN (None: the shipped one).
+    ``behaviour_config``: YAML over the behaviour defaults. ``audio``: sentences spoken into
+    WAV files. ``faults``: a :class:`~app.faults.FaultInjector` breaks things as the run goes
+    (before each tick), and an exception inside a behaviour fails that behaviour instead of
+    the run. ``adapt``: the robot learns from feedback during the run, starting from the
+    household memory file ``memory`` (saved as it learns) or, without one, from nothing.
+    ``threads``: the detector's CPU threads (None: the detector config's). ``profile``:
+    time the run's parts (:mod:`app.core.profiling`).
+    """
+
+    gui: bool = False
+    policy_path: Path | None = None
+    behaviour_config: Path | None = None
+    audio: bool = False
+    faults: FaultSpec | None = None
+    memory: Path | None = None
+    adapt: bool = True
+    threads: int | None = None
+    profile: bool = False
+
+
+def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
+              ) -> HouseholdRun:
     """Build the world, the robot's services (detector, facing model, dialogue, question
-    generator, policy) and the tree; the run's files go to ``out``. Without a shipped VQG model the
-    ask-question skill fails (it has no canned questions). With ``faults``, a
-    :class:`~app.faults.FaultInjector` breaks things as the run goes (before each tick), and
-    an exception inside a behaviour fails that behaviour instead of the run. With ``adapt``
-    the robot learns from feedback during the run, starting from the household memory file
-    ``memory`` (saved as it learns) or, without one, from nothing. ``threads``: the
-    detector's CPU threads (None: the detector config's)."""
+    generator, policy) and the tree, as ``options`` say; the run's files go to ``out``.
+    Without a shipped VQG model the ask-question skill fails (it has no canned questions)."""
     check_occasion(scenario)   # before anything is built or written
+    memory = options.memory
     household = load_memory(memory, scenario.name) if memory is not None else None
     out.mkdir(parents=True, exist_ok=True)
-    config = load_behaviour_config(behaviour_config)
-    policy = DQNPolicy.load(policy_path or DEFAULT_POLICY)
+    config = load_behaviour_config(options.behaviour_config)
+    policy = DQNPolicy.load(options.policy_path or DEFAULT_POLICY)
     detect = load_detector_config().detect
-    if threads is not None:
-        detect = detect.model_copy(update={"threads": threads})
+    if options.threads is not None:
+        detect = detect.model_copy(update={"threads": options.threads})
     detector: Any = YoloDetector.from_config(detect)
-    sim = Simulation(scenario, gui=gui)
+    sim = Simulation(scenario, gui=options.gui)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:
@@ -138,20 +165,43 @@ def build_run(scenario: Scenario, out: Path, *, gui: bool = False,
     facing = (FacingEstimator.load(DEFAULT_FACING_MODEL) if DEFAULT_FACING_MODEL.is_file()
               else None)
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
-                       audio_dir=out / "audio" if audio else None, dialogue=dialogue,
+                       audio_dir=out / "audio" if options.audio else None, dialogue=dialogue,
                        questions=questions, facing=facing)
     ctx.snapshot, ctx.contain_faults = saver, True
-    if adapt:
+    if options.adapt:
         ctx.memory, ctx.memory_path = household or Memory(scenario.name), memory
+    profile = Profile() if options.profile else None
+    if profile is not None:
+        profile.wrap(policy, "q_values", "policy")
     tree = SimulationTree(build_tree(ctx, policy, scenario.robot.initial_drives()), sim, ctx)
-    if faults is not None:
-        injector = FaultInjector(faults, sim, ctx.events)
+    if options.faults is not None:
+        injector = FaultInjector(options.faults, sim, ctx.events)
         ctx.detector = FaultyDetector(detector, injector)
         injector.at_load(dialogue)
         tree.add_pre_tick_handler(lambda _: injector.apply(
             sim.t, ctx.steps.last_action))
+    run = HouseholdRun(scenario, sim, ctx, tree, saver, out, profile=profile)
+    if profile is not None:
+        _instrument(run, profile)
     tree.setup()
-    return HouseholdRun(scenario, sim, ctx, tree, saver, out)
+    return run
+
+
+def _instrument(run: HouseholdRun, profile: Profile) -> None:
+    """Time the parts of ``run``: the simulation step (physics, people), the camera's
+    renders, each model, the speech, the writers and the tree's own ticking."""
+    sim, ctx = run.sim, run.ctx
+    profile.wrap(sim, "step", "simulation step")
+    for method in ("camera_frame", "camera_frame_with_depth"):
+        profile.wrap(sim.robot, method, "render")
+    profile.wrap(ctx.detector, "detect", "detect")
+    profile.wrap(ctx.facing, "facing", "facing model")
+    profile.wrap(ctx.dialogue, "respond", "dialogue")
+    profile.wrap(ctx.questions, "ask", "questions (VQG)")
+    profile.wrap(ctx.speaker, "say", "speech")
+    profile.wrap(ctx.events, "emit", "writing")
+    profile.wrap(run.saver, "save", "writing")
+    profile.wrap(run.tree, "tick", "tree")
 
 
 def prepare_scenario(path: Path, *, duration: float | None = None, seed: int | None = None,
@@ -170,25 +220,21 @@ def prepare_scenario(path: Path, *, duration: float | None = None, seed: int | N
     return scenario.model_copy(update=update)
 
 
-def run_scenario(scenario: Scenario, out: Path, *, gui: bool = False, progress: bool = True,
-                 policy_path: Path | None = None, behaviour_config: Path | None = None,
-                 audio: bool = False, overwrite: bool = False, faults: FaultSpec | None = None,
-                 memory: Path | None = None, adapt: bool = True, threads: int | None = None,
+def run_scenario(scenario: Scenario, out: Path, options: RunOptions = RunOptions(), *,
+                 progress: bool = True, overwrite: bool = False,
                  tags: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
-    :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) and return the
-    metrics (with ``tags`` added, e.g. the sweep entry it ran); ``memory``, ``adapt`` and
-    ``threads`` as in :func:`build_run`. SIGINT or SIGTERM ends the
-    run early: the report is still written and
-    ``metrics["interrupted_by"]`` names the signal. A failed write (a full disk) stops the run
-    with a :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
+    :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) as ``options``
+    say, and return the metrics (with ``tags`` added, e.g. the sweep entry it ran; with
+    ``options.profile``, the time of each part under ``profile``). SIGINT or SIGTERM ends the
+    run early: the report is still written and ``metrics["interrupted_by"]`` names the
+    signal. A failed write (a full disk) stops the run with a
+    :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
     wall0 = time.perf_counter()
     check_occasion(scenario)   # before anything is built or written
     claim(out, overwrite)
     try:
-        run = build_run(scenario, out, gui=gui, policy_path=policy_path,
-                        behaviour_config=behaviour_config, audio=audio, faults=faults,
-                        memory=memory, adapt=adapt, threads=threads)
+        run = build_run(scenario, out, options)
         atomic_write_bytes(out / "scenario.yaml", yaml.safe_dump(
             scenario.model_dump(mode="json"), sort_keys=False).encode())
         with run.sim:
@@ -215,6 +261,11 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
     visibility = load_vqg_data_config().visibility
     atomic_write_bytes(run.out / "tree.txt", (render(tree.root) + "\n").encode())
     run.timeline = TimelineWriter(run.out / "timeline.csv")
+    scene_of = household_scene
+    if run.profile is not None:
+        run.profile.add("start-up", time.perf_counter() - wall0)
+        run.profile.wrap(run.timeline, "write", "writing")
+        scene_of = run.profile.timed(household_scene, "ground truth (scoring)")
     ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
                     duration=scenario.duration, step=scenario.step)
     seen, next_sample = 0, 0.0
@@ -228,10 +279,10 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
                 run.timeline.write(ctx.steps.take())
                 for e in ctx.events.events[seen:]:
                     if e["kind"] == "action":
-                        frame, scene = household_scene(sim, visibility)
+                        frame, scene = scene_of(sim, visibility)
                         saver(e["action"], frame, scene)
                     elif e["kind"] == "question":  # scored by the world's ground truth
-                        _, scene = household_scene(sim, visibility)
+                        _, scene = scene_of(sim, visibility)
                         saver.describe(e["frame"], scene)
                         ctx.events.emit("question_truth", question=e["text"],
                                         **judge_question(e["text"], scene))
@@ -266,11 +317,14 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
         "faults": fault_report(ctx.events.events),
         "camera_frames": ctx.frames_taken,
         "camera_rate_hz": {"default": ctx.camera_rate,
-                           "tracking": ctx.config.perception.tracking_rate},
+                           "tracking": ctx.config.perception.tracking_rate,
+                           "idle": min(ctx.config.perception.idle_rate, ctx.camera_rate)},
         "wall_s": round(time.perf_counter() - wall0, 2),
         "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         **tags,
     }
+    if run.profile is not None:   # the report's own writing is counted under "other"
+        metrics["profile"] = run.profile.report(time.perf_counter() - wall0)
     write_metrics(metrics, out / "metrics.json")
     h = ctx.homeostasis
     plot_run(out / "timeline.csv", h.lower, h.upper, h.personality.mood.threshold, out / "plots")

@@ -52,6 +52,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="learn from feedback during this run only: no memory read or kept")
     p.add_argument("--no-adaptation", action="store_true",
                    help="feedback is logged, but the DQN alone chooses")
+    p.add_argument("--profile", action="store_true",
+                   help="time the run's parts (simulation step, render, detect, models, "
+                   "tree, writing): a table, and `profile` in metrics.json")
     p.add_argument("--json", action="store_true", help="print the metrics as one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_command)
@@ -94,10 +97,11 @@ def bench_command(args: argparse.Namespace) -> int:
 def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
     from app.core.errors import UserError
+    from app.core.profiling import profile_table
     from app.core.run_folder import default_folder
     from app.core.signals import status_of
     from app.faults import load_faults
-    from app.run import prepare_scenario, run_scenario
+    from app.run import RunOptions, prepare_scenario, run_scenario
 
     scenario = prepare_scenario(args.scenario, duration=args.duration, seed=args.seed,
                                 loop=args.loop)
@@ -107,10 +111,11 @@ def run_command(args: argparse.Namespace) -> int:
     faults = load_faults(args.faults) if args.faults else None
     memory = None if args.no_memory or args.no_adaptation else (
         args.memory or out.parent / "memory" / f"{scenario.name}.json")
-    metrics = run_scenario(scenario, out, gui=args.gui, progress=not args.no_progress,
-                           policy_path=args.policy, behaviour_config=args.behaviour,
-                           audio=args.audio, overwrite=args.overwrite, faults=faults,
-                           memory=memory, adapt=not args.no_adaptation)
+    options = RunOptions(gui=args.gui, policy_path=args.policy,
+                         behaviour_config=args.behaviour, audio=args.audio, faults=faults,
+                         memory=memory, adapt=not args.no_adaptation, profile=args.profile)
+    metrics = run_scenario(scenario, out, options, progress=not args.no_progress,
+                           overwrite=args.overwrite)
     status = status_of(metrics["interrupted_by"])
     if args.json:
         print(json.dumps(metrics))
@@ -127,4 +132,6 @@ def run_command(args: argparse.Namespace) -> int:
             print(f"  {key:24s} {metrics[key]}")
         print(f"  {'actions':24s} {metrics['actions_started']}")
         print(f"  {'skill success':24s} {metrics['skill_success_rate']}")
+        if "profile" in metrics:
+            print(profile_table(metrics["profile"]))
     return status

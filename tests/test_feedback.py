@@ -19,7 +19,7 @@ from app.mind.preferences.adaptation import adapted_actions, drive_bound, learn,
 from app.mind.preferences.config import FeedbackConfig, load_feedback_config
 from app.mind.preferences.evaluation.evaluate import run_arm, summarise
 from app.mind.preferences.memory import Memory, load_memory, save_memory
-from app.run import prepare_scenario, run_scenario
+from app.run import RunOptions, prepare_scenario, run_scenario
 from dialogue.feedback import evaluate_feedback
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -126,7 +126,7 @@ def household_run(tmp_path: Path, world: str, name: str, seed: int, duration: fl
     path = tmp_path / world
     path.write_text(yaml.safe_dump(data))
     scenario = prepare_scenario(path, duration=duration, seed=seed)
-    run_scenario(scenario, tmp_path / name, progress=False, **options)
+    run_scenario(scenario, tmp_path / name, RunOptions(**options), progress=False)
     return [json.loads(line) for line in (tmp_path / name / "events.jsonl").open()]
 
 

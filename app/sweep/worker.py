@@ -18,7 +18,7 @@ from app.mind.policy.config import load_policy_config
 from app.mind.policy.training.baselines import HomeostaticRule
 from app.mind.policy.training.evaluate import paired_gain, run_episodes, summarise
 from app.mind.policy.training.train import train
-from app.run import prepare_scenario, run_scenario
+from app.run import RunOptions, prepare_scenario, run_scenario
 from app.sweep.spec import Run, TrainRun
 
 
@@ -30,9 +30,10 @@ def execute(run: Run, folder: Path, collect: bool, threads: int) -> dict[str, An
     scenario = prepare_scenario(Path(run.world), duration=run.duration, seed=run.seed,
                                 personality=Path(run.personality) if run.personality else None)
     faults = load_faults(run.faults) if run.faults else None
-    metrics = run_scenario(scenario, folder, progress=False, overwrite=True, faults=faults,
-                           policy_path=Path(run.policy) if run.policy else None,
-                           threads=threads, tags={"sweep_key": run.key})
+    options = RunOptions(faults=faults, policy_path=Path(run.policy) if run.policy else None,
+                         threads=threads)
+    metrics = run_scenario(scenario, folder, options, progress=False, overwrite=True,
+                           tags={"sweep_key": run.key})
     events = (folder / "events.jsonl").read_text(encoding="utf-8") if collect else None
     return {"metrics": metrics, "events": events}
 
