@@ -24,6 +24,8 @@ class PerceptionConfig(StrictModel):
 
     tracking_rate: float = Field(gt=0, le=30)
     centring_rate: float = Field(gt=0, le=30)
+    idle_rate: float = Field(gt=0, le=30)
+    idle_after_s: float = Field(ge=0)
     min_conf: float = Field(gt=0, lt=1)
     depth_window: tuple[float, tuple[float, float]]
     depth_percentile: float = Field(ge=0, le=100)

@@ -8,7 +8,8 @@
   is queued in ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave
   feedback last is ``person``;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
-  (or the rate a skill steering by person boxes asks for on ``tracking``) go through the
+  (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
+  once no person has been seen in a frame nor heard for ``idle_after_s``) go through the
   detector; a plausible person box whose person is at most ``present_max_distance_m``
   away in the depth image makes the human-present stimulus, held ``present_hold_s`` after
   the last one;
@@ -46,6 +47,7 @@ class Sense(ContextBehaviour):
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
+        self._noticed = 0.0          # when a person was last seen in a frame or heard
         self.range: PersonRange | None = None
         self.health = SensorHealth(self.emit)
 
@@ -56,6 +58,7 @@ class Sense(ContextBehaviour):
         cfg = self.ctx.config
         for ev in self.ctx.inbox:
             if isinstance(ev, HeardLine):
+                self._noticed = self.now
                 if ev.to_robot:
                     self.bb.heard = [*self.bb.heard, ev]
                     self.bb.person = (ev.person, self.now)
@@ -92,9 +95,7 @@ class Sense(ContextBehaviour):
 
     def _camera(self) -> None:
         ctx, cfg = self.ctx, self.ctx.config.perception
-        asked = float(self.bb.tracking)
-        period = 1.0 / (asked if asked > 0 else ctx.camera_rate)
-        if self.now - self.bb.frame_t < period - 1e-6:
+        if self.now - self.bb.frame_t < 1.0 / self._rate() - 1e-6:
             return
         frame, depth = ctx.robot.camera_frame_with_depth()
         ctx.frames_taken += 1
@@ -103,8 +104,23 @@ class Sense(ContextBehaviour):
                       and self.health.frame_usable(frame, ctx.robot.frame_seq, self.now) else [])
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
-        if any(self._in_front(d) for d in people_in_view(ctx, detections)):
+        people = people_in_view(ctx, detections)
+        if people:
+            self._noticed = self.now
+        if any(self._in_front(d) for d in people):
             self._present_until = self.now + cfg.present_hold_s
+
+    def _rate(self) -> float:
+        """Camera frames per second now: what a steering skill asks for; else the scenario's
+        rate, or the idle rate while no one has been seen or heard for a while (an empty
+        room, the dock's wall) but never more than the scenario's."""
+        asked = float(self.bb.tracking)
+        if asked > 0:
+            return asked
+        cfg = self.ctx.config.perception
+        if self.now - self._noticed >= cfg.idle_after_s:
+            return min(cfg.idle_rate, self.ctx.camera_rate)
+        return self.ctx.camera_rate
 
     def _in_front(self, box: Detection) -> bool:
         """Whether the person in ``box`` is a plausible one within the present distance."""
