@@ -12,6 +12,7 @@ stopped by SIGINT or SIGTERM keeps everything written so far and still writes it
 
 from __future__ import annotations
 
+import os
 import resource
 import time
 from dataclasses import dataclass
@@ -118,7 +119,9 @@ class RunOptions:
     (before each tick), and an exception inside a behaviour fails that behaviour instead of
     the run. ``adapt``: the robot learns from feedback during the run, starting from the
     household memory file ``memory`` (saved as it learns) or, without one, from nothing.
-    ``threads``: the detector's CPU threads (None: the detector config's). ``profile``:
+    ``threads``: the detector's CPU threads (None: the detector config's), and the cores the
+    run may use: with two or more a helper process renders part of each camera frame
+    (:class:`~app.sim.rendering.SplitRenderer`; None: the machine's cores). ``profile``:
     time the run's parts (:mod:`app.core.profiling`).
     """
 
@@ -148,7 +151,8 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
     if options.threads is not None:
         detect = detect.model_copy(update={"threads": options.threads})
     detector: Any = YoloDetector.from_config(detect)
-    sim = Simulation(scenario, gui=options.gui)
+    cores = options.threads or os.cpu_count() or 1
+    sim = Simulation(scenario, gui=options.gui, camera_helper=cores >= 2 and not options.gui)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:

@@ -233,7 +233,8 @@ class Person:
         self.name = name
         self.appearance = appearance or Appearance()
         self._dims = _Dims.of(self.appearance)
-        self.body_id = load_urdf_text(client, name, _person_xml(self.appearance, self._dims))
+        self.urdf = _person_xml(self.appearance, self._dims)   # the body, for copies of the world
+        self.body_id = load_urdf_text(client, name, self.urdf)
         #: link name -> link index (pelvis is the base, -1)
         self.links = {p.getJointInfo(self.body_id, j, physicsClientId=client)[12].decode(): j
                       for j in range(p.getNumJoints(self.body_id, physicsClientId=client))}

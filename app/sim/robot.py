@@ -11,7 +11,8 @@ motor temperature by ``dt``. Joint limits come from the URDF, every other number
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from functools import partial
 from pathlib import Path
 from typing import Any, Self
 
@@ -23,6 +24,7 @@ from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
 from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
+from app.sim.rendering import Buffers, tiny_render
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
@@ -82,11 +84,13 @@ class ThermalConfig(StrictModel):
 
 
 class CameraConfig(StrictModel):
-    """Head camera intrinsics (vertical field of view, clip planes)."""
+    """Head camera intrinsics (vertical field of view, clip planes), and the share of each
+    frame's rows a helper process renders when there is one (app/sim/rendering.py)."""
 
     fov_deg: float = Field(gt=0.0, lt=180.0)
     near: PositiveFloat
     far: PositiveFloat
+    helper_share: float = Field(gt=0.0, lt=1.0)
 
 
 class RobotConfig(StrictModel):
@@ -261,6 +265,9 @@ class Robot:
         self._battery = Battery(self.cfg.battery)
         self._heat = MotorHeat(self.cfg.thermal)
         self._light: dict[str, Any] = {}
+        #: draws the head camera's frames (app/sim/rendering.py): TinyRenderer here, or a
+        #: :class:`~app.sim.rendering.SplitRenderer` sharing the work with a helper process
+        self.renderer: Callable[..., Buffers] = partial(tiny_render, client)
         self._camera_fault: str | None = None
         self._last_render: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self.frame_seq = 0   # sequence number of the camera's frames (a frozen camera repeats)
@@ -500,17 +507,14 @@ class Robot:
                                    physicsClientId=self.client)
         proj = p.computeProjectionMatrixFOV(cam.fov_deg, width / height, cam.near, cam.far,
                                             physicsClientId=self.client)
-        _, _, rgba, zbuf, seg = p.getCameraImage(width, height, view, proj, flags=flags,
-                                                 renderer=p.ER_TINY_RENDERER,
-                                                 physicsClientId=self.client, **self._light)
-        rgb = np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[..., :3].copy()
+        rgba, z, seg = self.renderer(width, height, view, proj, flags, self._light)
+        rgb = rgba[..., :3].copy()
         # OpenGL depth buffer in [0, 1] -> distance along the optical axis (m)
-        z = np.asarray(zbuf, dtype=np.float32).reshape(height, width)
         depth = cam.far * cam.near / (cam.far - (cam.far - cam.near) * z)
         if self._camera_fault == "black":
             rgb[:] = 0
         self.frame_seq += 1
-        render = (rgb, np.asarray(seg, dtype=np.int32).reshape(height, width), depth)
+        render = (rgb, seg, depth)
         self._last_render[width, height] = render
         return render
 

@@ -11,6 +11,7 @@ import pybullet as p
 
 from app.sim.hearing import HeardLine, Microphones
 from app.sim.reactions import Reactions
+from app.sim.rendering import SplitRenderer
 from app.sim.robot import Robot, load_robot_config
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.speech import speech_seconds
@@ -26,11 +27,13 @@ class Simulation:
     people's timeline by one scenario step and returns the social events that fell due. A
     line a person says comes once they have finished saying it (people talk at the robot's
     own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
-    (:class:`app.sim.hearing.HeardLine`).
+    (:class:`app.sim.hearing.HeardLine`). With ``camera_helper`` a second process renders
+    part of each camera frame (:class:`app.sim.rendering.SplitRenderer`; for a run with two
+    cores).
     """
 
-    def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None
-                 ) -> None:
+    def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None,
+                 camera_helper: bool = False) -> None:
         self.scenario = scenario
         self.dt = scenario.step
         self.t = 0.0
@@ -48,6 +51,9 @@ class Simulation:
         self.robot.set_battery(scenario.robot.battery)
         self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
         self.reactions = Reactions(scenario)
+        if camera_helper:
+            self.robot.renderer = SplitRenderer(self.client, self.world, scenario, self.robot.cfg,
+                                                self.robot.cfg.camera.helper_share)
         self._speaking: list[tuple[float, SayEvent]] = []   # (when it ends, the line)
 
     @classmethod
@@ -87,7 +93,9 @@ class Simulation:
         return self.microphones.hear(event, (x, y), at)
 
     def close(self) -> None:
-        """Disconnect the PyBullet client."""
+        """Stop the camera's helper, if any, and disconnect the PyBullet client."""
+        if isinstance(self.robot.renderer, SplitRenderer):
+            self.robot.renderer.close()
         if self.client is not None and p.isConnected(self.client):
             p.disconnect(self.client)
         self.client = None

@@ -309,6 +309,11 @@ class World:
         self._parked: dict[str, Person] = {}   # bodies of people who left, kept for their return
         self._footprints: list[Footprint] = []
         self._tops: dict[str, float] = {}
+        #: bodies made and removed after the world was built, in order: ("make", id, name,
+        #: URDF text) and ("remove", id); a copy of the world built from the same scenario
+        #: follows it with them (app/sim/rendering.py)
+        self.journal: list[tuple] = []
+        self._built = False
         p.setGravity(0, 0, -9.81, physicsClientId=client)
         self._build_house()
         for f in scenario.furniture:
@@ -329,6 +334,7 @@ class World:
             0, p.createCollisionShape(p.GEOM_PLANE, physicsClientId=client), ground,
             physicsClientId=client)
         self.pass_through(self.bodies["ground"])
+        self._built = True
         # In time order; at equal times people enter first (others may walk up to them).
         self._timeline = sorted(((e.at, spec.name, e) for spec in scenario.people
                                  for e in spec.events), key=lambda i: (i[0], i[2].kind != "enter"))
@@ -463,6 +469,8 @@ class World:
         look = Appearance(b.height, b.width, rgb(b.shirt), rgb(b.trousers), rgb(b.skin),
                           rgb(b.hair))
         person = self.people[name] = Person(self.client, look, x, y, yaw, pose, name)  # type: ignore[arg-type]
+        if self._built:
+            self.journal.append(("make", person.body_id, name, person.urdf))
         for i in range(p.getNumBodies(physicsClientId=self.client)):
             other = p.getBodyUniqueId(i, physicsClientId=self.client)
             if other != person.body_id:
@@ -604,7 +612,9 @@ class World:
     def drop_box(self, name: str, x: float, y: float, size: float = 0.45) -> None:
         """A box appears at ``(x, y)``: an obstacle the robot's floor map does not hold."""
         part = Part("box", (size, size, size), (0.6, 0.45, 0.3), (0, 0, size / 2))
-        self.bodies[name] = build_body(self.client, name, [part], (x, y, 0))
+        urdf = link_xml("base", [part])
+        self.bodies[name] = load_urdf_text(self.client, name, urdf, (x, y, 0))
+        self.journal.append(("make", self.bodies[name], name, urdf))
         self.pass_through(self.bodies[name])
 
     def take_away(self, name: str) -> None:
@@ -613,7 +623,9 @@ class World:
         if name in self.people:
             self._park(name)
         else:
-            p.removeBody(self.bodies.pop(name), physicsClientId=self.client)
+            body = self.bodies.pop(name)
+            p.removeBody(body, physicsClientId=self.client)
+            self.journal.append(("remove", body))
 
     # -- queries -------------------------------------------------------------------------------
 

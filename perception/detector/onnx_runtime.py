@@ -29,6 +29,10 @@ class OnnxYolo:
         options = ort.SessionOptions()
         options.intra_op_num_threads = threads
         options.inter_op_num_threads = 1
+        # Idle worker threads sleep instead of spinning for the next frame: a spinning
+        # thread would hold a core the camera's renderer or another run needs (1 ms slower
+        # a frame; docs/speed.md).
+        options.add_session_config_entry("session.intra_op.allow_spinning", "0")
         self.session = ort.InferenceSession(str(path), options,
                                             providers=["CPUExecutionProvider"])
         meta = self.session.get_modelmeta().custom_metadata_map
