@@ -306,6 +306,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
             tags: dict[str, Any]) -> dict[str, Any]:
     """Stop the tree and write the report: tree.txt, metrics.json, then the plots."""
     scenario, sim, ctx, tree = run.scenario, run.sim, run.ctx, run.tree
+    sim.stop_helper()   # its memory is not needed while the plots are drawn
     atomic_write_bytes(out / "tree.txt", (render(tree.root) + "\n\nLast tick:\n" + render(
         tree.root, show_status=True) + "\n").encode())
     tree.stop()

@@ -225,6 +225,20 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
     assert worst < 0.05
 
 
+def test_people_make_no_contacts_yet_rays_and_distance_queries_find_them(client):
+    world = build("nursing_home", client)    # four residents, two of them seated
+    world.drop_box("box", 1.0, 1.0)           # made after the people
+    p.stepSimulation(physicsClientId=client)
+    for person in world.people.values():
+        assert p.getContactPoints(person.body_id, physicsClientId=client) == ()
+        hx, hy, _ = p.getLinkState(person.body_id, person.links["head"],
+                                   physicsClientId=client)[0]
+        down = p.rayTest((hx, hy, 2.3), (hx, hy, 0.0), physicsClientId=client)[0]
+        assert down[0] == person.body_id        # a ray from above finds their head
+        assert p.getClosestPoints(person.body_id, world.bodies["box"], 50.0,
+                                  physicsClientId=client)
+
+
 def test_a_looping_timeline_brings_everyone_back_each_period(tmp_path):
     """With loop_period, the people's events play again every period from their starts."""
     scenario = load_scenario(Path(__file__).resolve().parents[1] / "worlds" / "nursing_home.yaml")

@@ -92,10 +92,14 @@ class Simulation:
         at = (speaker.x, speaker.y) if speaker else (x + math.cos(yaw), y + math.sin(yaw))
         return self.microphones.hear(event, (x, y), at)
 
-    def close(self) -> None:
-        """Stop the camera's helper, if any, and disconnect the PyBullet client."""
+    def stop_helper(self) -> None:
+        """Stop the camera's helper process, if any (later frames are drawn in this one)."""
         if isinstance(self.robot.renderer, SplitRenderer):
             self.robot.renderer.close()
+
+    def close(self) -> None:
+        """Stop the camera's helper, if any, and disconnect the PyBullet client."""
+        self.stop_helper()
         if self.client is not None and p.isConnected(self.client):
             p.disconnect(self.client)
         self.client = None
