@@ -99,3 +99,12 @@ def test_a_failed_helper_is_dropped_and_frames_go_on(tmp_path, how, caplog) -> N
         assert not renderer.alive
         assert "camera helper dropped" in caplog.text
         assert differing(frame, one.robot.camera_frame()) == 0
+
+
+def test_a_frame_with_shadows_is_drawn_whole_in_the_run(tmp_path) -> None:
+    scenario = busy_living_room(tmp_path)
+    scenario = scenario.model_copy(update={"lighting": scenario.lighting.model_copy(
+        update={"shadows": True})})
+    with Simulation(scenario) as one, Simulation(scenario, camera_helper=True) as split:
+        assert split.world.light.shadows
+        assert differing(one.robot.camera_frame(), split.robot.camera_frame()) == 0

@@ -9,7 +9,8 @@ through an off-centre projection of the same camera: a frame costs about as long
 larger band. Before each frame the helper is sent what changed since the last one: each
 body's pose and joint angles, and the bodies made or removed during the run, in order
 (``World.journal``). The bands meet without a seam; a few edge pixels may differ from
-a whole-frame render where two surfaces are equally near.
+a whole-frame render where two surfaces are equally near. Frames with shadows are drawn
+whole in this process (a band's shadow map would be smaller).
 
 A helper that fails (it died, or fell out of step with the world) is dropped, logged, and
 every later frame is drawn here whole: the camera never stops a run.
@@ -96,8 +97,10 @@ class SplitRenderer:
 
     def __call__(self, width: int, height: int, view: Sequence[float],
                  proj: Sequence[float], flags: int, light: dict[str, Any]) -> Buffers:
-        """One frame, as :func:`tiny_render` draws it."""
-        if self._proc is None:
+        """One frame, as :func:`tiny_render` draws it. A frame with shadows is drawn whole
+        here: TinyRenderer's shadow map is as large as the image, so a band would get
+        other shadows."""
+        if self._proc is None or light.get("shadow"):
             return tiny_render(self.client, width, height, view, proj, flags, light)
         split = round(height * self.share)
         try:
