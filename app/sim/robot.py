@@ -24,7 +24,7 @@ from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
 from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
-from app.sim.rendering import Buffers, tiny_render
+from app.sim.render import Buffers, tiny_render
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
@@ -85,7 +85,7 @@ class ThermalConfig(StrictModel):
 
 class CameraConfig(StrictModel):
     """Head camera intrinsics (vertical field of view, clip planes), and the share of each
-    frame's rows a helper process renders when there is one (app/sim/rendering.py)."""
+    frame's rows a helper process renders when there is one (app/sim/split_render.py)."""
 
     fov_deg: float = Field(gt=0.0, lt=180.0)
     near: PositiveFloat
@@ -265,8 +265,8 @@ class Robot:
         self._battery = Battery(self.cfg.battery)
         self._heat = MotorHeat(self.cfg.thermal)
         self._light: dict[str, Any] = {}
-        #: draws the head camera's frames (app/sim/rendering.py): TinyRenderer here, or a
-        #: :class:`~app.sim.rendering.SplitRenderer` sharing the work with a helper process
+        #: draws the head camera's frames (app/sim/split_render.py): TinyRenderer here, or a
+        #: :class:`~app.sim.split_render.SplitRenderer` sharing the work with a helper process
         self.renderer: Callable[..., Buffers] = partial(tiny_render, client)
         self._camera_fault: str | None = None
         self._last_render: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}

@@ -4,6 +4,7 @@ both run on it."""
 
 from __future__ import annotations
 
+import logging
 import math
 from pathlib import Path
 
@@ -11,11 +12,13 @@ import pybullet as p
 
 from app.sim.hearing import HeardLine, Microphones
 from app.sim.reactions import Reactions
-from app.sim.rendering import SplitRenderer
 from app.sim.robot import Robot, load_robot_config
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.speech import speech_seconds
+from app.sim.split_render import SplitRenderer
 from app.sim.world import SayEvent, SocialEvent, World
+
+log = logging.getLogger(__name__)
 
 PHYSICS_SUBSTEP_S = 0.05  # joint motors track their ramps to 1e-3 rad at this physics step
 
@@ -28,7 +31,7 @@ class Simulation:
     line a person says comes once they have finished saying it (people talk at the robot's
     own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
     (:class:`app.sim.hearing.HeardLine`). With ``camera_helper`` a second process renders
-    part of each camera frame (:class:`app.sim.rendering.SplitRenderer`; for a run with two
+    part of each camera frame (:class:`app.sim.split_render.SplitRenderer`; for a run with two
     cores).
     """
 
@@ -52,8 +55,12 @@ class Simulation:
         self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
         self.reactions = Reactions(scenario)
         if camera_helper:
-            self.robot.renderer = SplitRenderer(self.client, self.world, scenario, self.robot.cfg,
-                                                self.robot.cfg.camera.helper_share)
+            try:
+                self.robot.renderer = SplitRenderer(self.client, self.world, scenario,
+                                                    self.robot.cfg,
+                                                    self.robot.cfg.camera.helper_share)
+            except OSError as exc:   # no processes to spare: the frames are drawn here
+                log.warning("no camera helper (%s); frames are drawn in one process", exc)
         self._speaking: list[tuple[float, SayEvent]] = []   # (when it ends, the line)
 
     @classmethod

@@ -311,7 +311,7 @@ class World:
         self._tops: dict[str, float] = {}
         #: bodies made and removed after the world was built, in order: ("make", id, name,
         #: URDF text) and ("remove", id); a copy of the world built from the same scenario
-        #: follows it with them (app/sim/rendering.py)
+        #: follows it with them (app/sim/split_render.py)
         self.journal: list[tuple] = []
         self._built = False
         p.setGravity(0, 0, -9.81, physicsClientId=client)

@@ -1,5 +1,4 @@
-"""The head camera's renderers: PyBullet's TinyRenderer in this process, or split between
-this process and a helper.
+"""The head camera's frames split between the run's process and a helper process.
 
 Rendering is half of a household run's wall time, on one core: PyBullet holds Python's
 lock while it draws, so a thread cannot share the work. :class:`SplitRenderer` starts a
@@ -29,34 +28,15 @@ from typing import Any
 import numpy as np
 import pybullet as p
 
+from app.sim.people import load_urdf_text
+from app.sim.render import Buffers, band_projection, tiny_render
+from app.sim.robot import Robot
+from app.sim.world import World
+
 log = logging.getLogger(__name__)
 
-Buffers = tuple[np.ndarray, np.ndarray, np.ndarray]   # RGBA (h, w, 4), depth, segmentation
-HELPER_TIMEOUT_S = 10.0   # a band not back by then: the helper is taken for dead
-
-
-def tiny_render(client: int, width: int, height: int, view: Sequence[float],
-                proj: Sequence[float], flags: int, light: dict[str, Any]) -> Buffers:
-    """One frame from PyBullet's TinyRenderer in ``client``: RGBA, the OpenGL depth
-    buffer and the segmentation mask, each (height, width)."""
-    _, _, rgba, zbuf, seg = p.getCameraImage(width, height, view, proj, flags=flags,
-                                             renderer=p.ER_TINY_RENDERER,
-                                             physicsClientId=client, **light)
-    return (np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4),
-            np.asarray(zbuf, dtype=np.float32).reshape(height, width),
-            np.asarray(seg, dtype=np.int32).reshape(height, width))
-
-
-def band_projection(proj: Sequence[float], height: int, row0: int, row1: int) -> list[float]:
-    """``proj`` (OpenGL, column-major) narrowed to image rows ``[row0, row1)`` of a frame
-    ``height`` rows high (row 0 at the top): those rows' span of normalised device y is
-    stretched to the whole of [-1, 1]."""
-    top, bottom = 1 - 2 * row0 / height, 1 - 2 * row1 / height
-    band = np.eye(4)
-    band[1, 1] = 2 / (top - bottom)
-    band[1, 3] = -(top + bottom) / (top - bottom)
-    matrix = np.asarray(proj, dtype=np.float64).reshape(4, 4).T
-    return (band @ matrix).T.reshape(-1).tolist()
+HELPER_START_S = 120.0    # the first band waits for the helper to import and build the world
+HELPER_TIMEOUT_S = 10.0   # a later band not back by then: the helper is taken for dead
 
 
 def body_states(client: int) -> dict[int, tuple]:
@@ -83,6 +63,7 @@ class SplitRenderer:
         self.client, self.world, self.share = client, world, helper_share
         self._sent: dict[int, tuple] = {}
         self._journal_sent = 0
+        self._started = False
         context = mp.get_context("spawn")   # a fresh interpreter: no model threads copied
         self._conn, child = context.Pipe()
         self._proc: Any = context.Process(target=_serve, args=(child, scenario, robot_config),
@@ -107,9 +88,11 @@ class SplitRenderer:
             self._conn.send((self._changes(), width, split, height, view, proj, flags, light))
             mine = tiny_render(self.client, width, height - split, view,
                                band_projection(proj, height, split, height), flags, light)
-            if not self._conn.poll(HELPER_TIMEOUT_S):
-                raise TimeoutError(f"no band in {HELPER_TIMEOUT_S:g} s")
+            wait = HELPER_TIMEOUT_S if self._started else HELPER_START_S
+            if not self._conn.poll(wait):
+                raise TimeoutError(f"no band in {wait:g} s")
             theirs = self._conn.recv()
+            self._started = True
             if isinstance(theirs, str):
                 raise RuntimeError(theirs)
         except (OSError, EOFError, TimeoutError, RuntimeError) as exc:
@@ -148,10 +131,6 @@ class SplitRenderer:
 def _serve(conn: Connection, scenario: Any, robot_config: Any) -> None:
     """The helper: build the world and the robot, then draw bands until told to stop (None)
     or the run's end of the pipe closes. SIGINT is the run's to handle."""
-    from app.sim.people import load_urdf_text
-    from app.sim.robot import Robot
-    from app.sim.world import World
-
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     client = p.connect(p.DIRECT)
     world = World(scenario, client)
