@@ -121,7 +121,7 @@ class RunOptions:
     household memory file ``memory`` (saved as it learns) or, without one, from nothing.
     ``threads``: the detector's CPU threads (None: the detector config's), and the cores the
     run may use: with two or more a helper process renders part of each camera frame
-    (:class:`~app.sim.rendering.SplitRenderer`; None: the machine's cores). ``profile``:
+    (:class:`~app.sim.split_render.SplitRenderer`; None: the machine's cores). ``profile``:
     time the run's parts (:mod:`app.core.profiling`).
     """
 
