@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 OUT    ?= runs/demo
 WORLD  ?= worlds/living_room.yaml
 
-.PHONY: setup demo test lint bench tts snapshots clean
+.PHONY: setup demo test lint bench snapshots clean
 
 setup: $(STAMP)
 
@@ -37,13 +37,6 @@ snapshots: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python bench/bench_env.py
-
-# Optional: espeak-ng renders the robot's sentences to WAV files (app/sim/speech.py); without it
-# speech is only logged. Debian/Ubuntu package; sudo is used when not run as root.
-SUDO = $(shell [ "$$(id -u)" = 0 ] || echo sudo)
-tts:
-	$(SUDO) apt-get update
-	$(SUDO) apt-get install -y espeak-ng
 
 clean:
 	rm -rf $(VENV) runs

@@ -152,7 +152,8 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
         detect = detect.model_copy(update={"threads": options.threads})
     detector: Any = YoloDetector.from_config(detect)
     cores = options.threads or os.cpu_count() or 1
-    sim = Simulation(scenario, gui=options.gui, camera_helper=cores >= 2 and not options.gui)
+    sim = Simulation(scenario, gui=options.gui, camera_helper=cores >= 2 and not options.gui,
+                     voices_dir=out / "audio" / "people" if options.audio else None)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:

@@ -40,8 +40,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--behaviour", type=Path,
                    help="YAML overriding app/defaults/behaviour.yaml")
     p.add_argument("--audio", action="store_true",
-                   help="also speak every sentence into audio/NNNN.wav (needs espeak-ng, "
-                   "`make tts`)")
+                   help="also speak the robot's sentences into audio/NNNN.wav and people's "
+                   "lines into audio/people/line-NNNN.wav, each in its own voice (espeak-ng)")
     p.add_argument("--faults", type=Path,
                    help="YAML of faults to inject (docs/reliability.md): the run reports "
                    "each one and the robot's recovery in metrics.json")

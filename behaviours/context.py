@@ -107,5 +107,5 @@ def make_context(sim: Any, config: BehaviourConfig | None = None,
     return Context(robot=sim.robot, world=sim.world,
                    homeostasis=Homeostasis(load_personality(scenario.personality)),
                    config=config or load_behaviour_config(), clock=clock, events=events,
-                   speaker=Speaker(events, audio_dir), detector=detector,
+                   speaker=Speaker(events, audio_dir, sim.robot.cfg.voice), detector=detector,
                    camera_rate=scenario.camera_rate, **services)

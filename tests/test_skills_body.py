@@ -1,7 +1,7 @@
 """The body skills (rest, stand_by, sing_dance) in the living room, the dance routines file
 and speech audio."""
 
-import shutil
+import wave
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,6 +17,7 @@ from app.sim.robot import Robot
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import Speaker
+from app.sim.voices import Voice
 from behaviours.blackboard import seed
 from behaviours.context import Context, make_context
 from behaviours.harness import run_skill
@@ -193,22 +194,19 @@ def test_overlapping_lyrics_are_refused(tmp_path, limits):
         load_dances(path, limits)
 
 
-def test_speaker_writes_wav_files(tmp_path):
-    if shutil.which("espeak-ng") is None:
-        pytest.skip("espeak-ng is not installed (`make tts` installs it)")
+def test_speaker_speaks_into_wav_files_in_its_voice(tmp_path):
     events = EventLog(None, lambda: 0.0)
-    speaker = Speaker(events, audio_dir=tmp_path / "speech")
+    speaker = Speaker(events, audio_dir=tmp_path / "speech", voice=Voice(pitch=58))
     assert speaker.say("I need to take a rest") == pytest.approx(2.4)
     speaker.say("Hello!")
     assert [e["audio"] for e in events.of_kind("say")] == ["0001.wav", "0002.wav"]
-    for name in ("0001.wav", "0002.wav"):
-        data = (tmp_path / "speech" / name).read_bytes()
-        assert data[:4] == b"RIFF" and data[8:12] == b"WAVE" and len(data) > 1000
+    with wave.open(str(tmp_path / "speech" / "0001.wav")) as w:
+        assert (w.getnchannels(), w.getsampwidth(), w.getframerate()) == (1, 2, 22050)
+        seconds = w.getnframes() / w.getframerate()
+    assert 1.0 < seconds < 3.5        # five words at 150 a minute, with the voice's pauses
 
 
-def test_speaker_without_espeak_only_logs(tmp_path, monkeypatch):
-    monkeypatch.setattr("app.sim.speech.shutil.which", lambda name: None)
+def test_speaker_without_audio_only_logs(tmp_path):
     events = EventLog(None, lambda: 0.0)
-    Speaker(events, audio_dir=tmp_path / "speech").say("Hello there")
+    Speaker(events).say("Hello there")
     assert "audio" not in events.of_kind("say")[0]
-    assert not (tmp_path / "speech").exists()

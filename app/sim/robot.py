@@ -25,6 +25,7 @@ from app.core.paths import URDF_DIR
 from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
 from app.sim.render import Buffers, tiny_render
+from app.sim.voices import Voice
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
@@ -98,6 +99,7 @@ class RobotConfig(StrictModel):
 
     base: BaseConfig
     joints: JointsConfig
+    voice: Voice
     initial_posture: str
     posture_speed: float = Field(gt=0.0, le=1.0)
     postures: dict[str, dict[str, float]]

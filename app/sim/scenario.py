@@ -31,6 +31,7 @@ from app.sim.layout import (
     Unit,
 )
 from app.sim.scenario_space import PERSON_RADIUS, ROBOT_RADIUS, overlaps
+from app.sim.voices import PEOPLE_VOICES, Voice, VoiceError, check_voice
 
 
 class Body(StrictModel):
@@ -146,6 +147,7 @@ class PersonSpec(StrictModel):
     start: Start | None = None
     events: tuple[Event, ...] = ()
     tastes: Tastes = Tastes()
+    voice: Voice | None = None   # espeak-ng voice of their lines; None: one by their place
 
 
 InitialDrives = create_model(  # one optional field per drive name, each in [0, 1]
@@ -349,9 +351,29 @@ def _start_problems(s: Scenario) -> list[str]:
     return out
 
 
+def voice_of(s: Scenario, name: str) -> Voice:
+    """The voice person ``name`` speaks with: their own, or one of
+    :data:`app.sim.voices.PEOPLE_VOICES` by their place in the scenario's list."""
+    i, person = next((i, p) for i, p in enumerate(s.people) if p.name == name)
+    return person.voice or PEOPLE_VOICES[i % len(PEOPLE_VOICES)]
+
+
+def _voice_problems(s: Scenario) -> list[str]:
+    """Voices espeak-ng does not have."""
+    out = []
+    for i, p in enumerate(s.people):
+        if p.voice is not None:
+            try:
+                check_voice(p.voice)
+            except VoiceError as exc:
+                out.append(f"people[{i}].voice: {exc}")
+    return out
+
+
 def scenario_problems(s: Scenario) -> list[str]:
     """Cross-field problems of a schema-valid scenario, each as ``path: message``."""
-    return _layout_problems(s) + _start_problems(s) + _event_problems(s)
+    return (_layout_problems(s) + _start_problems(s) + _event_problems(s)
+            + _voice_problems(s))
 
 
 def load_scenario(path: str | Path) -> Scenario:

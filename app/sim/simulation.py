@@ -13,9 +13,10 @@ import pybullet as p
 from app.sim.hearing import HeardLine, Microphones
 from app.sim.reactions import Reactions
 from app.sim.robot import Robot, load_robot_config
-from app.sim.scenario import Scenario, load_scenario
-from app.sim.speech import speech_seconds
+from app.sim.scenario import Scenario, load_scenario, voice_of
+from app.sim.speech import speech_seconds, write_wav
 from app.sim.split_render import SplitRenderer
+from app.sim.voices import VoiceError, synthesise
 from app.sim.world import SayEvent, SocialEvent, World
 
 log = logging.getLogger(__name__)
@@ -32,11 +33,13 @@ class Simulation:
     own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
     (:class:`app.sim.hearing.HeardLine`). With ``camera_helper`` a second process renders
     part of each camera frame (:class:`app.sim.split_render.SplitRenderer`; for a run with two
-    cores).
+    cores). With ``voices_dir`` every line a person says is spoken in their voice
+    (:func:`app.sim.scenario.voice_of`) into ``voices_dir/line-NNNN.wav``, NNNN the line's
+    number (:attr:`HeardLine.line`).
     """
 
     def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None,
-                 camera_helper: bool = False) -> None:
+                 camera_helper: bool = False, voices_dir: Path | None = None) -> None:
         self.scenario = scenario
         self.dt = scenario.step
         self.t = 0.0
@@ -54,6 +57,9 @@ class Simulation:
         self.robot.set_battery(scenario.robot.battery)
         self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
         self.reactions = Reactions(scenario)
+        self.voices_dir = voices_dir
+        if voices_dir is not None:
+            voices_dir.mkdir(parents=True, exist_ok=True)
         if camera_helper:
             try:
                 self.robot.renderer = SplitRenderer(self.client, self.world, scenario,
@@ -97,7 +103,14 @@ class Simulation:
         x, y, yaw = self.robot.pose()
         speaker = self.world.people_positions().get(event.person)
         at = (speaker.x, speaker.y) if speaker else (x + math.cos(yaw), y + math.sin(yaw))
-        return self.microphones.hear(event, (x, y), at)
+        heard = self.microphones.hear(event, (x, y), at)
+        if self.voices_dir is not None:
+            try:
+                samples, rate = synthesise(event.text, voice_of(self.scenario, event.person))
+                write_wav(self.voices_dir / f"line-{heard.line:04d}.wav", samples, rate)
+            except VoiceError as exc:
+                log.warning("%s", exc)
+        return heard
 
     def stop_helper(self) -> None:
         """Stop the camera's helper process, if any (later frames are drawn in this one)."""

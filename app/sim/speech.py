@@ -1,16 +1,18 @@
-"""What the robot says: logged as events, timed like speech, optionally rendered to WAV."""
+"""What the robot says: logged as events, timed like speech, and with audio on, spoken into
+WAV files in its own voice (espeak-ng in process, app/sim/voices.py)."""
 
 from __future__ import annotations
 
 import logging
-import shutil
-import subprocess
 from pathlib import Path
 
+import numpy as np
+
+from app.core.checkpoint import atomic_write_bytes
 from app.core.events import EventLog
+from app.sim.voices import Voice, VoiceError, check_voice, synthesise, wav_bytes
 
 WORDS_PER_SECOND = 2.5  # a calm speaking rate
-ESPEAK = "espeak-ng"
 log = logging.getLogger(__name__)
 
 
@@ -19,47 +21,40 @@ def speech_seconds(text: str) -> float:
     return max(1.0, len(text.split()) / WORDS_PER_SECOND)
 
 
+def write_wav(path: Path, samples: np.ndarray, rate: int) -> None:
+    """Write ``samples`` to ``path`` as a WAV file, whole or not at all."""
+    atomic_write_bytes(path, wav_bytes(samples, rate))
+
+
 class Speaker:
     """Says sentences: each one becomes a ``say`` event with its duration.
 
-    With ``audio_dir`` and the ``espeak-ng`` binary on the PATH, every sentence is also
-    rendered to ``audio_dir/NNNN.wav`` (NNNN counts the sentences from 0001) and the file
-    name is added to its event as ``audio``. Without espeak-ng the sentences are only
-    logged.
+    With ``audio_dir`` every sentence is also spoken in ``voice`` into
+    ``audio_dir/NNNN.wav`` (NNNN counts the sentences from 0001) and the file name is added
+    to its event as ``audio``. A sentence espeak-ng cannot say is logged without audio.
     """
 
-    def __init__(self, events: EventLog, audio_dir: str | Path | None = None) -> None:
+    def __init__(self, events: EventLog, audio_dir: str | Path | None = None,
+                 voice: Voice | None = None) -> None:
         self.events = events
         self.said = 0
-        self._audio: tuple[str, Path] | None = None   # (espeak-ng binary, folder) when on
-        if audio_dir is not None:
-            espeak = shutil.which(ESPEAK)
-            if espeak is None:
-                log.warning("%s is not installed (`make tts`): speech is only logged", ESPEAK)
-            else:
-                self._audio = (espeak, Path(audio_dir))
-                self._audio[1].mkdir(parents=True, exist_ok=True)
+        self.voice = voice or Voice()
+        self.folder = Path(audio_dir) if audio_dir is not None else None
+        if self.folder is not None:
+            check_voice(self.voice)
+            self.folder.mkdir(parents=True, exist_ok=True)
 
     def say(self, text: str, **fields: object) -> float:
-        """Log the sentence (rendering it to WAV when enabled) and return how long it takes
+        """Log the sentence (spoken to WAV when audio is on) and return how long it takes
         to say (seconds)."""
         self.said += 1
         duration = speech_seconds(text)
-        if self._audio is not None:
-            audio = self._render(text, *self._audio)
-            if audio is not None:
-                fields["audio"] = audio
+        if self.folder is not None:
+            name = f"{self.said:04d}.wav"
+            try:
+                write_wav(self.folder / name, *synthesise(text, self.voice))
+                fields["audio"] = name
+            except VoiceError as exc:
+                log.warning("%s", exc)
         self.events.emit("say", text=text, duration=duration, **fields)
         return duration
-
-    def _render(self, text: str, espeak: str, folder: Path) -> str | None:
-        """Write the sentence to the next numbered WAV file; its name, or None on failure."""
-        name = f"{self.said:04d}.wav"
-        wpm = str(round(WORDS_PER_SECOND * 60))
-        cmd = [espeak, "-s", wpm, "-w", str(folder / name), "--", text]
-        try:
-            subprocess.run(cmd, check=True, capture_output=True, timeout=30)
-        except (OSError, subprocess.SubprocessError) as exc:
-            log.warning("%s could not render %r: %s", ESPEAK, text, exc)
-            return None
-        return name

@@ -1,0 +1,142 @@
+"""Voices: the robot's and each person's, synthesised in this process by espeak-ng.
+
+The espeak-ng library and its voice data come inside the ``espeakng-loader`` wheel, so
+speech needs nothing from the system. The library is called through ctypes, in its
+synchronous mode: each sentence comes back through a callback as 16-bit samples (22,050 Hz),
+and :func:`synthesise` returns them as one array. espeak-ng keeps one global state per
+process, so the library is initialised once, on first use, and voices are switched before
+each sentence.
+
+A :class:`Voice` names an espeak-ng voice (a language and accent such as ``en-us``,
+``en``, ``en-GB-scotland`` or ``en-029``), an optional variant (``f1``-``f5`` female, ``m1``-
+``m7`` male, ...), a pitch (0-99) and a speed (words a minute).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import io
+import threading
+import wave
+from typing import Any
+
+import espeakng_loader
+import numpy as np
+from pydantic import Field, field_validator
+
+from app.core.config_files import StrictModel
+
+SYNCHRONOUS = 2          # espeak_AUDIO_OUTPUT: samples handed to the callback as they come
+POSITION_CHARACTER = 1   # espeak_POSITION_TYPE
+CHARS_UTF8 = 1           # espeak_Synth flags
+RATE, PITCH = 1, 3       # espeak_PARAMETER
+_CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_short), ctypes.c_int,
+                             ctypes.c_void_p)
+
+
+class VoiceError(ValueError):
+    """A voice espeak-ng does not have, or a sentence it could not say."""
+
+
+class Voice(StrictModel):
+    """An espeak-ng voice: ``name`` (language and accent), ``variant``, ``pitch`` (0-99)
+    and ``speed`` (words a minute)."""
+
+    name: str = Field(default="en-us", min_length=1, max_length=40)
+    variant: str | None = Field(default=None, min_length=1, max_length=20)
+    pitch: int = Field(default=50, ge=0, le=99)
+    speed: int = Field(default=150, ge=80, le=450)
+
+    @field_validator("name", "variant")
+    @classmethod
+    def _plain(cls, value: str | None) -> str | None:
+        if value is not None and not value.replace("-", "").replace("_", "").isalnum():
+            raise ValueError("letters, digits, '-' and '_' only")
+        return value
+
+    @property
+    def espeak_name(self) -> str:
+        """The name espeak-ng selects it by: ``name`` or ``name+variant``."""
+        return self.name if self.variant is None else f"{self.name}+{self.variant}"
+
+
+# Voices people get when their scenario gives none, in the order they are listed: different
+# accents, sexes and pitches, so that each person of a household sounds like themselves.
+PEOPLE_VOICES = (
+    Voice(name="en-us", variant="f3", pitch=62, speed=150),
+    Voice(name="en", variant="m3", pitch=40, speed=145),
+    Voice(name="en-GB-scotland", variant="f2", pitch=55, speed=140),
+    Voice(name="en-029", variant="m1", pitch=45, speed=155),
+    Voice(name="en-us", variant="f5", pitch=70, speed=160),
+    Voice(name="en-GB-x-rp", variant="m7", pitch=35, speed=135),
+)
+
+
+class _Engine:
+    """The process's one espeak-ng, initialised on first use."""
+
+    def __init__(self) -> None:
+        self.lib = ctypes.CDLL(espeakng_loader.get_library_path())
+        self.lib.espeak_Initialize.restype = ctypes.c_int
+        rate = self.lib.espeak_Initialize(SYNCHRONOUS, 0,
+                                          espeakng_loader.get_data_path().encode(), 0)
+        if rate <= 0:
+            raise VoiceError("espeak-ng did not start")
+        self.rate = int(rate)
+        self.chunks: list[np.ndarray] = []
+        self._callback = _CALLBACK(self._collect)   # kept: the library holds a pointer to it
+        self.lib.espeak_SetSynthCallback(self._callback)
+        self.lock = threading.Lock()
+
+    def _collect(self, samples: Any, count: int, _events: int) -> int:
+        if count > 0:
+            self.chunks.append(np.ctypeslib.as_array(samples, shape=(count,)).copy())
+        return 0
+
+    def say(self, text: str, voice: Voice) -> np.ndarray:
+        with self.lock:
+            if self.lib.espeak_SetVoiceByName(voice.espeak_name.encode()) != 0:
+                raise VoiceError(f"espeak-ng has no voice {voice.espeak_name!r}")
+            self.lib.espeak_SetParameter(RATE, voice.speed, 0)
+            self.lib.espeak_SetParameter(PITCH, voice.pitch, 0)
+            data = text.encode()
+            self.chunks = []
+            if self.lib.espeak_Synth(data, len(data) + 1, 0, POSITION_CHARACTER, 0, CHARS_UTF8,
+                                     None, None) != 0:
+                raise VoiceError(f"espeak-ng could not say {text[:60]!r}")
+            self.lib.espeak_Synchronize()
+            return (np.concatenate(self.chunks) if self.chunks
+                    else np.zeros(0, dtype=np.int16)).astype(np.int16)
+
+
+_engine: _Engine | None = None
+
+
+def engine() -> _Engine:
+    """The process's espeak-ng (started on first use)."""
+    global _engine
+    if _engine is None:
+        _engine = _Engine()
+    return _engine
+
+
+def synthesise(text: str, voice: Voice) -> tuple[np.ndarray, int]:
+    """``text`` said in ``voice``: 16-bit mono samples and their rate (Hz)."""
+    e = engine()
+    return e.say(text, voice), e.rate
+
+
+def check_voice(voice: Voice) -> None:
+    """Raise :class:`VoiceError` when espeak-ng lacks ``voice``."""
+    synthesise("", voice)
+
+
+def wav_bytes(samples: np.ndarray, rate: int) -> bytes:
+    """A mono 16-bit WAV file of ``samples``."""
+    buffer = io.BytesIO()
+    with wave.open(buffer, "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(rate)
+        w.writeframes(samples.astype(np.int16).tobytes())
+    return buffer.getvalue()

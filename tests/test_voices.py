@@ -1,0 +1,89 @@
+"""Voices from espeak-ng in process: people sound unlike each other, unknown voices are
+refused with the scenario named, and a run with audio speaks the robot's sentences and the
+people's lines into WAV files."""
+
+from __future__ import annotations
+
+import json
+import wave
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from app.core.config_files import ConfigError
+from app.run import RunOptions, prepare_scenario, run_scenario
+from app.sim.scenario import load_scenario, voice_of
+from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def median_pitch(samples: np.ndarray, rate: int) -> float:
+    """Median fundamental frequency (Hz) of the voiced 40-ms frames, by autocorrelation."""
+    x = samples.astype(np.float64)
+    size, pitches = int(0.04 * rate), []
+    lags = np.arange(rate // 400, rate // 60)
+    for start in range(0, len(x) - size, size):
+        frame = x[start:start + size] - x[start:start + size].mean()
+        energy = float(frame @ frame)
+        if energy < 1e6 * size:            # silence between words
+            continue
+        corr = np.array([frame[:-lag] @ frame[lag:] for lag in lags]) / energy
+        if corr.max() > 0.5:
+            pitches.append(rate / lags[int(corr.argmax())])
+    return float(np.median(pitches))
+
+
+def test_voices_differ_in_pitch_and_length_follows_speed() -> None:
+    text = "Good morning, would you like to hear the news today?"
+    high = median_pitch(*synthesise(text, Voice(name="en-us", variant="f3", pitch=70)))
+    low = median_pitch(*synthesise(text, Voice(name="en-us", variant="m3", pitch=30)))
+    assert high > 1.4 * low
+    slow, rate = synthesise(text, Voice(speed=100))
+    fast, _ = synthesise(text, Voice(speed=200))
+    assert 1.6 < len(slow) / len(fast) < 2.4
+    assert 2.0 < len(fast) / rate < 4.5
+
+
+def test_each_person_gets_a_voice_of_their_own() -> None:
+    scenario = load_scenario(ROOT / "worlds" / "nursing_home.yaml")
+    voices = [voice_of(scenario, p.name) for p in scenario.people]
+    assert len({v.espeak_name + str(v.pitch) for v in voices}) == len(voices)
+    assert voices[0] == PEOPLE_VOICES[0]
+
+
+def test_an_unknown_voice_is_refused_with_its_place(tmp_path) -> None:
+    data = yaml.safe_load((ROOT / "worlds" / "living_room.yaml").read_text())
+    data.pop("personality", None)
+    data["people"][1]["voice"] = {"name": "xx-nowhere", "pitch": 40}
+    path = tmp_path / "w.yaml"
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(ConfigError, match=r"people\[1\]\.voice: espeak-ng has no voice"):
+        load_scenario(path)
+    data["people"][1]["voice"] = {"name": "en; rm -rf"}
+    path.write_text(yaml.safe_dump(data))
+    with pytest.raises(ConfigError, match=r"people\[1\]\.voice\.name"):
+        load_scenario(path)
+
+
+def test_a_run_with_audio_speaks_the_robot_and_the_people(tmp_path) -> None:
+    data = yaml.safe_load((ROOT / "worlds" / "living_room.yaml").read_text())
+    data.pop("personality", None)
+    grace = data["people"][0]
+    grace["events"] = [{"at": 1, "say": "Hello robot, what time is it?"}]
+    for person in data["people"][1:]:
+        person["events"] = []
+    path = tmp_path / "w.yaml"
+    path.write_text(yaml.safe_dump(data))
+    out = tmp_path / "run"
+    run_scenario(prepare_scenario(path, duration=12), out, RunOptions(audio=True, adapt=False),
+                 progress=False)
+    events = [json.loads(line) for line in (out / "events.jsonl").open()]
+    said = [e for e in events if e["kind"] == "say" and e.get("to") == grace["name"]]
+    assert said and all((out / "audio" / e["audio"]).is_file() for e in said)
+    heard = next(e for e in events if e["kind"] == "heard")
+    line = out / "audio" / "people" / f"line-{heard['line']:04d}.wav"
+    with wave.open(str(line)) as w:
+        assert w.getnframes() / w.getframerate() > 1.0
