@@ -76,12 +76,38 @@ def test_a_stopped_run_writes_its_report_and_exits_with_the_signal(tmp_path, sig
     assert not list(out.rglob("*.tmp")) and not (out / ".lock").exists()
 
 
+def children(pid: int) -> set[int]:
+    """The processes whose parent is ``pid`` (from /proc)."""
+    found = set()
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            found.add(int(stat.parent.name))
+    return found
+
+
+def gone(pids: set[int], seconds: float) -> bool:
+    """Whether every process in ``pids`` has ended within ``seconds``."""
+    deadline = time.time() + seconds
+    while time.time() < deadline:
+        if not any(Path(f"/proc/{pid}").exists() for pid in pids):
+            return True
+        time.sleep(0.2)
+    return False
+
+
 def test_a_killed_run_leaves_whole_lines_and_its_folder_can_be_reused(tmp_path):
     out = tmp_path / "run"
     proc = start(out, "--duration", "600")
     wait_running(out, proc, seconds=5)
+    helpers = children(proc.pid)   # the camera's helper (two cores) and Python's tracker
+    assert helpers or (os.cpu_count() or 1) < 2
     proc.kill()
     proc.wait(timeout=60)
+    assert gone(helpers, 20), "a helper process outlived the killed run"
     assert_whole(out)
     again = subprocess.run([*RUN, "--out", str(out), "--duration", "1"], capture_output=True,
                            text=True, timeout=300)
