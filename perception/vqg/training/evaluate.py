@@ -173,15 +173,14 @@ class Selector:
         self.run, self.model, self.vocab, self.items = run, model, vocab, items
         self.path, self.log = run.out_dir / MODEL_FILE, run.out_dir / "valid_log.csv"
         state = run.state or {}
-        rows = []
-        if self.log.exists():
-            with self.log.open(newline="") as fh:
-                rows = [r for r in csv.DictReader(fh) if r["phase"] in run.done or (
-                    r["phase"] == state.get("phase") and int(r["step"]) <= state["step"])]
-        with self.log.open("w", newline="") as fh:
-            writer = csv.DictWriter(fh, self.FIELDS)
-            writer.writeheader()
-            writer.writerows(rows)
+
+        def kept(row: list[str]) -> bool:   # validations up to the checkpoint
+            return row[0] in run.done or (row[0] == state.get("phase")
+                                          and int(row[1]) <= state["step"])
+
+        run.folder.open_log(self.log.name, self.FIELDS, kept).close()   # rewritten whole
+        with self.log.open(newline="") as fh:
+            rows = list(csv.DictReader(fh))
         self.best_row = max((_selected(r) for r in rows), key=lambda r: r["score"],
                             default=None)
         self.best = self.best_row["score"] if self.best_row else -1.0
