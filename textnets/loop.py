@@ -84,9 +84,12 @@ class Run(Generic[C]):
 
     def save(self, phase: str | None, step: int = 0, optimizers: dict | None = None,
              samplers: dict | None = None, extra: dict | None = None,
-             rng: torch.Tensor | None = None) -> None:
-        """Write the checkpoint atomically (``samplers`` maps names to their states)."""
+             rng: torch.Tensor | None = None, sums: dict | None = None) -> None:
+        """Write the checkpoint atomically (``samplers`` maps names to their states; ``sums``
+        holds the values logged since the last log row, so that a resumed run's next row
+        averages the same steps as an uninterrupted one's)."""
         self.folder.save({
+            "sums": sums or {},
             "nets": {k: v.state_dict() for k, v in self.nets.items()}, "done": self.done,
             "phase": phase, "step": step,
             "optimizers": {k: v.state_dict() for k, v in (optimizers or {}).items()},
@@ -120,12 +123,14 @@ class Run(Generic[C]):
                 s.load_state_dict(self.state["samplers"][k])
             torch.set_rng_state(self.state["torch_rng"])
             extra.update(self.state["extra"])
+        sums: dict[str, list[float]] = defaultdict(list)
+        if self.state is not None and self.state["phase"] == phase:
+            sums.update({k: list(v) for k, v in self.state.get("sums", {}).items()})
         log = self.folder.open_log(f"log_{phase}.csv", ["step", *fields, "wall_s"],
                                    keep=lambda row: int(row[0]) <= start)
         writer = csv.writer(log)
         bar = tqdm(total=total, initial=start, desc=f"{self.name} {phase}",
                    disable=None if self.progress else True)  # None: no bar off a terminal
-        sums: dict[str, list[float]] = defaultdict(list)
         done = start
 
         def position() -> tuple[dict, torch.Tensor]:
@@ -149,9 +154,9 @@ class Run(Generic[C]):
                 if on_eval is not None and eval_every and done % eval_every == 0:
                     on_eval(done)
                 if done % tc.checkpoint_every == 0 and done < total:
-                    self.save(phase, done, optimizers, last[0], extra, last[1])
+                    self.save(phase, done, optimizers, last[0], extra, last[1], dict(sums))
         except KeyboardInterrupt:  # a step cut short is replayed (its updates may remain)
-            self.save(phase, done, optimizers, last[0], extra, last[1])
+            self.save(phase, done, optimizers, last[0], extra, last[1], dict(sums))
             raise
         finally:
             bar.close()
