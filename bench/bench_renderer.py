@@ -60,10 +60,7 @@ def poses(w: World, views: int) -> list[tuple[float, float, float]]:
 
 def render(client: int, w: World, robot: Robot, renderer: int) -> np.ndarray:
     """One 320x240 frame with depth from the robot's head camera; its colour image."""
-    eye, forward, up = robot.camera_pose()
-    cam = robot.cfg.camera
-    view = p.computeViewMatrix(eye.tolist(), (eye + forward).tolist(), up.tolist())
-    proj = p.computeProjectionMatrixFOV(cam.fov_deg, 320 / 240, cam.near, cam.far)
+    view, proj = robot.camera_matrices(320, 240)
     rgba = p.getCameraImage(320, 240, view, proj, flags=p.ER_NO_SEGMENTATION_MASK,
                             renderer=renderer, physicsClientId=client,
                             **w.light.camera_kwargs())[2]

@@ -46,10 +46,7 @@ def test_two_bands_make_the_whole_frame(tmp_path) -> None:
             x, y, _ = robot.pose()
             robot.set_pose(x, y, yaw)
             whole = robot.camera_frame()
-            eye, forward, up = robot.camera_pose()
-            view = p.computeViewMatrix(eye.tolist(), (eye + forward).tolist(), up.tolist())
-            cam = robot.cfg.camera
-            proj = p.computeProjectionMatrixFOV(cam.fov_deg, 320 / 240, cam.near, cam.far)
+            view, proj = robot.camera_matrices(320, 240)
             bands = [tiny_render(sim.client, 320, r1 - r0, view, band_projection(proj, 240, r0, r1),
                                  p.ER_NO_SEGMENTATION_MASK,
                                  sim.world.light.camera_kwargs())[0][..., :3]

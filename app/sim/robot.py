@@ -501,14 +501,21 @@ class Robot:
         rot = rot.reshape(3, 3)
         return np.array(state[4]), rot[:, 0], rot[:, 2]
 
-    def _render(self, width: int, height: int, flags: int
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def camera_matrices(self, width: int, height: int) -> tuple[list[float], list[float]]:
+        """The head camera's OpenGL view and projection matrices (column-major) for a
+        ``width`` x ``height`` frame, as ``getCameraImage`` takes them."""
         eye, forward, up = self.camera_pose()
         cam = self.cfg.camera
         view = p.computeViewMatrix(eye.tolist(), (eye + forward).tolist(), up.tolist(),
                                    physicsClientId=self.client)
         proj = p.computeProjectionMatrixFOV(cam.fov_deg, width / height, cam.near, cam.far,
                                             physicsClientId=self.client)
+        return view, proj
+
+    def _render(self, width: int, height: int, flags: int
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        cam = self.cfg.camera
+        view, proj = self.camera_matrices(width, height)
         rgba, z, seg = self.renderer(width, height, view, proj, flags, self._light)
         rgb = rgba[..., :3].copy()
         # OpenGL depth buffer in [0, 1] -> distance along the optical axis (m)

@@ -488,8 +488,8 @@ class World:
     def pass_through(self, body: int) -> None:
         """People, present and parked, make no contacts with ``body``, a body made after
         them (people to come are kept apart from every body there is when they come in).
-        People are moved kinematically: contacts with them would only cost the physics
-        time (a third of each step with four people seated) and throw the robot's joints
+        People are moved kinematically: contacts with them would only cost physics time
+        (more than half of each step in the nursing home) and throw the robot's joints
         about when one walks into it. Rays, distance queries (the robot's own collision
         checks) and the camera still see them."""
         for person in [*self.people.values(), *self._parked.values()]:

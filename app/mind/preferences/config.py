@@ -19,14 +19,14 @@ class AdaptationConfig(StrictModel):
     learning_rate: float = Field(gt=0, le=1)
     weight_disliked: float = Field(ge=0, le=1000)
     weight_liked: float = Field(ge=0, le=1000)
+    safety_margin: float = Field(ge=0, le=1)
+    credit_window_s: float = Field(gt=0, le=3600)
+    person_window_s: float = Field(gt=0, le=86400)
 
     @property
     def weights(self) -> tuple[float, float]:
         """``(weight_disliked, weight_liked)``."""
         return self.weight_disliked, self.weight_liked
-    safety_margin: float = Field(ge=0, le=1)
-    credit_window_s: float = Field(gt=0, le=3600)
-    person_window_s: float = Field(gt=0, le=86400)
 
 
 class SpokenConfig(StrictModel):
