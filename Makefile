@@ -5,10 +5,17 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 OUT    ?= runs/demo
 WORLD  ?= worlds/living_room.yaml
+WORDNET := /usr/share/wordnet/data.noun
+SUDO   := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: setup demo test lint bench snapshots clean
 
-setup: $(STAMP)
+setup: $(STAMP) $(WORDNET)
+
+# WordNet 3.0 (Debian's wordnet-base) answers the robot's everyday questions, read in place.
+$(WORDNET):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends wordnet-base
 
 # torch and torchvision come as a matching pair from the package registry: `--isolated`
 # keeps pip away from locally configured wheel folders that hold an unmatched torch build.
@@ -22,20 +29,20 @@ $(STAMP): pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet --force-reinstall --no-deps $$(grep -E '^opencv-python-headless==' constraints.txt)
 	touch $(STAMP)
 
-demo: $(STAMP)
+demo: setup
 	$(BIN)/companion run $(WORLD) --out $(OUT) --overwrite
 
 # lint-imports checks the import contracts of pyproject.toml (the layers of docs/architecture.md).
-test: $(STAMP)
+test: setup
 	$(BIN)/ruff check .
 	$(BIN)/lint-imports
 	$(BIN)/pytest
 
 # Refresh the behaviour-tree snapshots in tests/snapshots/ after an intended change.
-snapshots: $(STAMP)
+snapshots: setup
 	UPDATE_SNAPSHOTS=1 $(BIN)/pytest -q tests/test_tree_snapshots.py
 
-bench: $(STAMP)
+bench: setup
 	$(BIN)/python bench/bench_env.py
 
 clean:

@@ -62,6 +62,13 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--heldout", type=Path, default=HELDOUT_FILE,
                    help="labelled utterances (label<TAB>text)")
     p.set_defaults(func=run_eval)
+    k = sub.add_parser("knowledge", help="the held-out knowledge questions (what is, who was, "
+                                         "who invented), each answer marked by its keywords")
+    k.add_argument("--json", action="store_true", help="print one JSON object")
+    k.add_argument("--questions", type=Path, default=None,
+                   help="questions file (kind<TAB>question<TAB>keyword|keyword; default: "
+                        "dialogue/data/knowledge_questions.tsv)")
+    k.set_defaults(func=run_eval_knowledge)
 
 
 def _print_reply(reply: Any, out: TextIO) -> None:
@@ -192,6 +199,25 @@ def run_eval(args: argparse.Namespace) -> int:
               f"{chat['distinct_1']:.3f}/{chat['distinct_2']:.3f}")
     else:
         print("chit-chat perplexity: no chit-chat model (train one with `companion train chat`)")
+    return 0
+
+
+def run_eval_knowledge(args: argparse.Namespace) -> int:
+    """``companion eval knowledge``: share of correct answers, against the bar."""
+    from dialogue.knowledge_eval import KNOWLEDGE_BAR, QUESTIONS_FILE, evaluate_knowledge
+
+    result = evaluate_knowledge(args.questions or QUESTIONS_FILE)
+    if args.json:
+        print(json.dumps(result))
+        return 0
+    for r in result["results"]:
+        if r["mark"] != "correct":
+            print(f"  {r['mark']:<10} {r['question']!r} -> {r['answer']!r}")
+    ok = "meets" if result["accuracy"] >= KNOWLEDGE_BAR else "BELOW"
+    print(f"knowledge: {result['accuracy']:.3f} correct on {result['n']} questions ({ok} the "
+          f"bar of {KNOWLEDGE_BAR}); " + ", ".join(f"{k} {v}" for k, v in result["marks"].items()))
+    for kind, acc in result["per_kind"].items():
+        print(f"  {kind:<10} {acc:.3f}")
     return 0
 
 

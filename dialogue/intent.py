@@ -49,8 +49,10 @@ CUES = {  # the thesis's zeta: words that point at one category
              r"|\bplay (?!football|chess|cards|a game|with)",
     "photo": r"\bphoto(?:graph)?s?\b|\bpictures?\b|\bselfie\b|\bsnapshot\b|\bcamera\b|\bsnap\b"
              r"|\bpic\b|\bsay cheese\b",
-    "information": r"^(?:who|what) (?:is|was|are|were)\b|\btell me about\b|\bexplain\b"
-                   r"|\bdefine\b|\bfacts about\b|\bwho invented\b",
+    "information": r"^(?:who|what) (?:is|was|are|were)\b|^what's an?\b|\btell me about\b"
+                   r"|\bexplain\b|\bdefine\b|\bfacts about\b|\bwho invented\b"
+                   r"|^who (?:first )?(?:wrote|composed|painted|discovered|designed|founded)\b"
+                   r"|^who (?:is|was) the (?:author|inventor|composer|painter) of\b",
 }
 _CUES = {label: re.compile(p) for label, p in CUES.items()}
 

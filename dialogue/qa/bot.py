@@ -11,6 +11,7 @@ from app.core.config_files import read_yaml
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.clock import Clock, answer_time, utc_now
+from dialogue.qa.encyclopedia import Encyclopedia
 from dialogue.qa.home_map import Household, answer_map
 from dialogue.qa.knowledge import KnowledgeBase, answer_information, answer_related
 from dialogue.qa.music import Songs, answer_music
@@ -29,14 +30,17 @@ class QABot:
     ``out_dir`` receives rendered maps (a temporary folder when not given), ``clock``
     returns the current aware datetime, ``home_city`` answers questions naming no city
     (default: the weather provider's home city) and ``songs`` are the songs the robot can
-    sing and dance (default: the shipped routines).
+    sing and dance (default: the shipped routines); ``encyclopedia`` answers what the knowledge
+    base does not hold ("shipped": WordNet where ``app/defaults/conversation.yaml`` says;
+    None: the knowledge base alone).
     """
 
     def __init__(self, *, weather: WeatherProvider | None = None,
                  feed: str | Path | None = SAMPLE_FEED, knowledge: KnowledgeBase | None = None,
                  household: Household | None = None, out_dir: str | Path | None = None,
                  clock: Clock = utc_now, home_city: str | None = None,
-                 take_photo: TakePhoto | None = None, songs: Songs | None = None) -> None:
+                 take_photo: TakePhoto | None = None, songs: Songs | None = None,
+                 encyclopedia: Encyclopedia | str | None = "shipped") -> None:
         self.weather = weather
         self.feed = feed
         self.knowledge = knowledge if knowledge is not None else KnowledgeBase.load()
@@ -46,6 +50,8 @@ class QABot:
         self.home_city = home_city or (weather.home_city if weather else None)
         self.take_photo = take_photo
         self.songs = songs
+        self.encyclopedia = (Encyclopedia.shipped() if encyclopedia == "shipped"
+                             else encyclopedia)
 
     @classmethod
     def offline(cls, **kwargs: Any) -> QABot:
@@ -74,7 +80,7 @@ class QABot:
         if category == "news":
             return answer_news(text, self.feed)
         if category == "information":
-            return answer_information(text, self.knowledge, last_topic)
+            return answer_information(text, self.knowledge, last_topic, self.encyclopedia)
         if category == "related_topics":
             return answer_related(text, self.knowledge, last_topic)
         if category == "map":

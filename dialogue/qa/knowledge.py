@@ -1,4 +1,5 @@
-"""Information retrieval and related topics from a local knowledge base (a JSON file).
+"""Information retrieval and related topics from a local knowledge base (a JSON file), and
+everyday knowledge from WordNet (:mod:`dialogue.qa.encyclopedia`) for what it does not hold.
 
 The shipped base, ``dialogue/data/knowledge.json``, is written by the project: each entry
 has a ``title``, ``aliases``, a short ``summary``, the ``url`` the tablet shows, a list of
@@ -8,17 +9,26 @@ has a ``title``, ``aliases``, a short ``summary``, the ``url`` the tablet shows,
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass
 from pathlib import Path
+from urllib.parse import quote
 
 from dialogue.qa.base import Answer, DialogueError
-from dialogue.qa.text import STOPWORDS, best_match, ngrams, normalise, strip_frame
+from dialogue.qa.encyclopedia import Encyclopedia, Fact
+from dialogue.qa.text import STOPWORDS, best_match, ngrams, normalise, original_words, strip_frame
 
 KNOWLEDGE = Path(__file__).resolve().parents[1] / "data" / "knowledge.json"
 RELATED_FRAMES = [r"(?:topics|things|subjects)? ?(?:are |is )?(?:related|linked|connected|similar)"
                   r" (?:to|with)", r"(?:topics|things|subjects) like", r"similar to",
                   r"related topics (?:for|of|about)?", r"goes with", r"besides", r"after"]
 MAX_RELATED = 5
+WIKI = "https://en.wikipedia.org/wiki/"
+MADE = r"invented|discovered|wrote|composed|painted|created|designed|founded|built|developed"
+WHO_MADE = re.compile(rf"\bwho (?:first |originally |really )?({MADE})\s+(?:the )?(.+)$")
+AGENT_OF = re.compile(r"\bwho (?:is|was) the (author|writer|inventor|composer|painter|creator|"
+                      r"designer|founder|discoverer|architect|sculptor) of\s+(?:the )?(.+)$")
+WHO = re.compile(r"\bwho(?:'s| is| was| are| were)?\b")
 
 
 @dataclass(frozen=True)
@@ -94,17 +104,42 @@ def _topic(text: str, last_topic: str | None, frames: list[str] = ()) -> str:
     return phrase
 
 
-def answer_information(text: str, kb: KnowledgeBase, last_topic: str | None = None) -> Answer:
-    """Describe what the question asks about, or say clearly that the robot does not know."""
+def answer_information(text: str, kb: KnowledgeBase, last_topic: str | None = None,
+                       encyclopedia: Encyclopedia | None = None) -> Answer:
+    """Describe what the question asks about, or say clearly that the robot does not know.
+    The household's own knowledge base wins; then WordNet (``encyclopedia``): who made a
+    thing, or what (who) a thing (person) is."""
     entry = kb.find(text)
     topic = _topic(text, last_topic)
     if entry is None and topic == last_topic and last_topic:
         entry = kb.find(last_topic)
-    if entry is None:
-        about = f" about {topic}" if topic else " about that"
-        return Answer(f"I'm sorry, I don't know anything{about} yet.", found=False,
-                      topic=topic or None)
-    return Answer(entry.summary, tablet=entry.url, topic=entry.title)
+    if entry is not None:
+        return Answer(entry.summary, tablet=entry.url, topic=entry.title)
+    made = WHO_MADE.search(normalise(text)) or AGENT_OF.search(normalise(text))
+    topic = made.group(2) if made else topic
+    fact = _look_up(text, topic, encyclopedia) if encyclopedia and topic else None
+    if fact is not None:
+        return Answer(fact.text, tablet=f"{WIKI}{quote(fact.topic.replace(' ', '_'))}",
+                      topic=fact.topic)
+    about = f" about {topic}" if topic else " about that"
+    return Answer(f"I'm sorry, I don't know anything{about} yet.", found=False,
+                  topic=topic or None)
+
+
+def _look_up(text: str, topic: str, encyclopedia: Encyclopedia) -> Fact | None:
+    t = normalise(text)
+    made = WHO_MADE.search(t) or AGENT_OF.search(t)
+    if made:
+        return encyclopedia.who_made(made.group(1), made.group(2))
+    who = WHO.search(t) is not None
+    asked = original_words(text, topic)
+    words = topic.split()
+    for n in range(len(words), 0, -1):  # the whole phrase, then its head ("the Nile river")
+        phrase = " ".join(words[len(words) - n:])
+        fact = encyclopedia.describe(phrase, who, asked if n == len(words) else phrase)
+        if fact is not None:
+            return fact
+    return None
 
 
 def answer_related(text: str, kb: KnowledgeBase, last_topic: str | None = None) -> Answer:

@@ -27,6 +27,8 @@ what's whats who who's whos whom which when where where's how how's why tell sho
 some any robot hey hi hello ok okay so just really very like again now right know let let's
 """)
 
+ARTICLES = frozenset({"a", "an", "the"})
+
 FRAMES = [  # question frames removed before a topic is looked up; longest first
     r"can you tell me (?:something |a bit |more )?about",
     r"tell me (?:something |a bit |more )?about", r"what do you know about",
@@ -41,6 +43,21 @@ def normalise(text: str) -> str:
     """Lower case, accents folded, punctuation turned into spaces, spaces collapsed."""
     folded = unicodedata.normalize("NFKD", text).encode("ascii", "ignore").decode()
     return " ".join(WORD.findall(folded.lower().replace("\u2019", "'")))
+
+
+def original_words(text: str, phrase: str) -> str:
+    """``phrase`` (normalised, as :func:`strip_frame` returns it) as ``text`` wrote it, with
+    the article in front of it if any ("tell me about the Eiffel Tower" -> "the Eiffel Tower");
+    ``phrase`` itself when it is not in ``text`` word for word."""
+    folded = unicodedata.normalize("NFKD", text).encode("ascii", "ignore").decode()
+    raw = re.findall(r"[A-Za-z0-9]+(?:['\u2019][A-Za-z]+)?", folded.replace("\u2019", "'"))
+    low = [w.lower() for w in raw]
+    want = phrase.split()
+    for i in range(len(low) - len(want), -1, -1):
+        if want and low[i:i + len(want)] == want:
+            start = i - 1 if i and low[i - 1] in ARTICLES else i
+            return " ".join(raw[start:i + len(want)])
+    return phrase
 
 
 def content_words(text: str) -> list[str]:
