@@ -16,18 +16,24 @@ from urllib.parse import quote
 
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.encyclopedia import Encyclopedia, Fact
-from dialogue.qa.text import STOPWORDS, best_match, ngrams, normalise, original_words, strip_frame
+from dialogue.qa.text import (
+    AGENT_OF,
+    STOPWORDS,
+    WHO_MADE,
+    best_match,
+    ngrams,
+    normalise,
+    original_words,
+    strip_frame,
+    topic_phrase,
+)
 
 KNOWLEDGE = Path(__file__).resolve().parents[1] / "data" / "knowledge.json"
 RELATED_FRAMES = [r"(?:topics|things|subjects)? ?(?:are |is )?(?:related|linked|connected|similar)"
                   r" (?:to|with)", r"(?:topics|things|subjects) like", r"similar to",
-                  r"related topics (?:for|of|about)?", r"goes with", r"besides", r"after"]
+                  r"related topics(?: for| of| about)?", r"goes with", r"besides", r"after"]
 MAX_RELATED = 5
 WIKI = "https://en.wikipedia.org/wiki/"
-MADE = r"invented|discovered|wrote|composed|painted|created|designed|founded|built|developed"
-WHO_MADE = re.compile(rf"\bwho (?:first |originally |really )?({MADE})\s+(?:the )?(.+)$")
-AGENT_OF = re.compile(r"\bwho (?:is|was) the (author|writer|inventor|composer|painter|creator|"
-                      r"designer|founder|discoverer|architect|sculptor) of\s+(?:the )?(.+)$")
 WHO = re.compile(r"\bwho(?:'s| is| was| are| were)?\b")
 
 
@@ -115,15 +121,14 @@ def answer_information(text: str, kb: KnowledgeBase, last_topic: str | None = No
         entry = kb.find(last_topic)
     if entry is not None:
         return Answer(entry.summary, tablet=entry.url, topic=entry.title)
-    made = WHO_MADE.search(normalise(text)) or AGENT_OF.search(normalise(text))
-    topic = made.group(2) if made else topic
     fact = _look_up(text, topic, encyclopedia) if encyclopedia and topic else None
     if fact is not None:
         return Answer(fact.text, tablet=f"{WIKI}{quote(fact.topic.replace(' ', '_'))}",
                       topic=fact.topic)
-    about = f" about {topic}" if topic else " about that"
+    named = topic_phrase(text) if topic != last_topic else topic
+    about = f" about {named}" if named else " about that"
     return Answer(f"I'm sorry, I don't know anything{about} yet.", found=False,
-                  topic=topic or None)
+                  topic=named or None)
 
 
 def _look_up(text: str, topic: str, encyclopedia: Encyclopedia) -> Fact | None:

@@ -80,7 +80,8 @@ def answer_news(text: str, feed_path: str | Path | None = SAMPLE_FEED) -> Answer
     entries, feed_link = read_feed(feed_path) if feed_path else ([], None)
     if not entries:
         return Answer("Sorry, I have no news to share right now.", found=False, topic="news")
-    topic = [_stem(w) for w in news_topic(text)]
+    asked = news_topic(text)
+    topic = [_stem(w) for w in asked]
     chosen = entries
     intro = "Here are the latest headlines"
     if topic:
@@ -89,9 +90,9 @@ def answer_news(text: str, feed_path: str | Path | None = SAMPLE_FEED) -> Answer
             return any(t in words for t in topic)
         about = [e for e in entries if matches(e)]
         if about:
-            chosen, intro = about, f"Here is the news about {' '.join(topic)}"
+            chosen, intro = about, f"Here is the news about {' '.join(asked)}"
         else:
-            intro = f"I found no news about {' '.join(topic)}; here are the latest headlines"
+            intro = f"I found no news about {' '.join(asked)}; here are the latest headlines"
     titles = [e["title"].rstrip(".") for e in chosen[:MAX_HEADLINES]]
     return Answer(f"{intro}: " + "; ".join(titles) + ".",
                   tablet=chosen[0]["link"] or feed_link or str(feed_path),

@@ -28,8 +28,16 @@ some any robot hey hi hello ok okay so just really very like again now right kno
 """)
 
 ARTICLES = frozenset({"a", "an", "the"})
+# words after the topic that belong to the question: "what is the moon made of", "... today"
+TRAILING = word_set("today now tonight then made used called known famous good")
 
+MADE = r"invented|discovered|wrote|composed|painted|created|designed|founded|built|developed"
+AGENTS = (r"author|writer|inventor|composer|painter|creator|designer|founder|discoverer"
+          r"|architect|sculptor")
+WHO_MADE = re.compile(rf"\bwho (?:first |originally |really )?({MADE})\s+(?:the )?(.+)$")
+AGENT_OF = re.compile(rf"\bwho (?:is|was) the ({AGENTS}) of\s+(?:the )?(.+)$")
 FRAMES = [  # question frames removed before a topic is looked up; longest first
+    rf"who (?:is|was) the (?:{AGENTS}) of", rf"who (?:first |originally |really )?(?:{MADE})",
     r"can you tell me (?:something |a bit |more )?about",
     r"tell me (?:something |a bit |more )?about", r"what do you know about",
     r"do you know (?:anything )?about", r"i(?:'d| would) like to know about",
@@ -60,6 +68,13 @@ def original_words(text: str, phrase: str) -> str:
     return phrase
 
 
+def topic_phrase(text: str, extra: Iterable[str] = ()) -> str:
+    """What a question is about, as the person wrote it, without the frame or an article:
+    "tell me about the Eiffel Tower" -> "Eiffel Tower"; "" when it names nothing."""
+    words = original_words(text, strip_frame(text, extra)).split()
+    return " ".join(words[1:] if words and words[0].lower() in ARTICLES else words)
+
+
 def content_words(text: str) -> list[str]:
     """The words of ``text`` that are not function words."""
     return [w for w in normalise(text).split() if w not in STOPWORDS]
@@ -84,11 +99,11 @@ def strip_frame(text: str, extra: Iterable[str] = ()) -> str:
     for frame in [*extra, *FRAMES]:
         stripped = re.sub(rf"^(?:.*?\b)?{frame}\b", "", t, count=1).strip()
         if stripped != t:
-            t = stripped or t
+            t = stripped
             break
     words = t.split()
     while words and words[0] in STOPWORDS:
         words.pop(0)
-    while words and words[-1] in STOPWORDS | {"today", "now", "tonight", "then"}:
+    while words and words[-1] in STOPWORDS | TRAILING:
         words.pop()
     return " ".join(words)
