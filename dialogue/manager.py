@@ -16,6 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal, Protocol, runtime_checkable
 
+from dialogue.input_check import InputCheck
 from dialogue.intent import CHITCHAT, MODES, IntentClassifier
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Action, Answer, DialogueError
@@ -101,13 +102,14 @@ class DialogueManager:
     def __init__(self, qa: QABot | None = None, *, classifier: IntentClassifier | None = None,
                  chitchat: ChitChat | None = None, style: StyleTransfer | None = None,
                  on_reply: Callable[[dict[str, Any]], None] | None = None,
-                 max_chars: int = MAX_CHARS) -> None:
+                 max_chars: int = MAX_CHARS, input_check: InputCheck | None = None) -> None:
         self.qa = qa if qa is not None else QABot.offline()
         self.classifier = classifier or IntentClassifier.default()
         self.chitchat = chitchat
         self.style = style
         self.on_reply = on_reply
         self.max_chars = max_chars
+        self.input_check = input_check or InputCheck.default()
         self.context = DialogueContext()
 
     def respond(self, text: str, mood: Mood | bool = "positive",
@@ -136,6 +138,9 @@ class DialogueManager:
         return reply
 
     def _respond(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
+        unclear = self._unclear(said, mood)
+        if unclear is not None:
+            return unclear
         if not normalise(said):
             return Reply("Sorry, I didn't catch that. Could you say it again?", "empty",
                          mood=mood, found=False)
@@ -166,6 +171,14 @@ class DialogueManager:
             reply = Reply(f"{greeting} {reply.text}", reply.route, reply.action, reply.tablet,
                           mood, found=reply.found)
         return reply
+
+    def _unclear(self, said: str, mood: str) -> Reply | None:
+        """A short honest reply to a line of symbols, far too long, not English or not
+        understood (:mod:`dialogue.input_check`), instead of a guess."""
+        unclear = self.input_check.check(said) if said else None
+        if unclear is None:
+            return None
+        return Reply(unclear.text, unclear.route, mood=mood, found=False)
 
     def _route(self, said: str, ctx: DialogueContext) -> str:
         intent = self.classifier.classify(said, ctx.mode)

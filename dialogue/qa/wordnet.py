@@ -14,12 +14,14 @@ from functools import cache, lru_cache
 from pathlib import Path
 from typing import BinaryIO
 
-FILES = {"n": "noun", "v": "verb", "a": "adj"}
+FILES = {"n": "noun", "v": "verb", "a": "adj", "r": "adv"}
 PERSON = 18  # lexicographer file noun.person
 NOUN_RULES = (("ses", "s"), ("xes", "x"), ("zes", "z"), ("ches", "ch"), ("shes", "sh"),
               ("men", "man"), ("ies", "y"), ("s", ""))
 VERB_RULES = (("ies", "y"), ("es", "e"), ("es", ""), ("ed", "e"), ("ed", ""), ("ing", "e"),
               ("ing", ""), ("s", ""))
+ADJ_RULES = (("er", ""), ("est", ""), ("er", "e"), ("est", "e"))
+RULES = {"n": NOUN_RULES, "v": VERB_RULES, "a": ADJ_RULES}  # WordNet's own (morphy)
 
 
 @dataclass(frozen=True)
@@ -28,7 +30,7 @@ class Pointer:
 
     symbol: str   # "@" hypernym, "@i" instance of, "+" derivationally related, ...
     offset: int
-    pos: str      # "n" or "v" ("a", "r", "s" too; not loaded)
+    pos: str      # "n", "v", "a", "r" ("s", a satellite adjective, is not followed)
     source: int   # 0: the whole synset, else the 1-based lemma number
     target: int
 
@@ -131,7 +133,7 @@ class WordNet:
         """The lemmas ``word`` (lower case) may be a form of: itself, an irregular form's
         base, then WordNet's suffix rules; only lemmas the database has."""
         candidates = [word, self.exceptions[pos].get(word)]
-        for suffix, repl in NOUN_RULES if pos == "n" else VERB_RULES:
+        for suffix, repl in RULES.get(pos, ()):
             if word.endswith(suffix) and len(word) > len(suffix) + 1:
                 candidates.append(word[: len(word) - len(suffix)] + repl)
         out: list[str] = []
