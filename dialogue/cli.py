@@ -218,6 +218,8 @@ def run_eval_knowledge(args: argparse.Namespace) -> int:
           f"bar of {KNOWLEDGE_BAR}); " + ", ".join(f"{k} {v}" for k, v in result["marks"].items()))
     for kind, acc in result["per_kind"].items():
         print(f"  {kind:<10} {acc:.3f}")
+    print(f"reply latency: median {result['latency_ms_median']:.1f} ms, longest "
+          f"{result['latency_ms_max']:.0f} ms (the first question builds the index of people)")
     return 0
 
 

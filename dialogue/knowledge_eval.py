@@ -4,7 +4,9 @@ reply marked by the question's answer keywords (docs/knowledge.md)."""
 
 from __future__ import annotations
 
+import statistics
 import tempfile
+import time
 from collections import Counter
 from pathlib import Path
 
@@ -51,8 +53,11 @@ def evaluate_knowledge(path: str | Path = QUESTIONS_FILE) -> dict:
     results = []
     with tempfile.TemporaryDirectory(prefix="companion-eval-") as tmp:
         manager = DialogueManager(QABot.offline(out_dir=tmp))
+        times = []
         for kind, question, keywords in rows:
+            t0 = time.perf_counter()
             reply = manager.respond(question, "positive", DialogueContext())
+            times.append((time.perf_counter() - t0) * 1000)
             results.append({"kind": kind, "question": question, "keywords": keywords,
                             "route": reply.route, "answer": reply.text,
                             "mark": mark(reply.text, reply.found, keywords)})
@@ -61,5 +66,6 @@ def evaluate_knowledge(path: str | Path = QUESTIONS_FILE) -> dict:
         correct[r["kind"]] += r["mark"] == "correct"
     marks = Counter(r["mark"] for r in results)
     return {"accuracy": marks["correct"] / max(len(results), 1), "n": len(results),
-            "marks": dict(marks),
+            "marks": dict(marks), "latency_ms_median": statistics.median(times) if times else 0.0,
+            "latency_ms_max": max(times, default=0.0),
             "per_kind": {k: correct[k] / total[k] for k in total}, "results": results}
