@@ -26,11 +26,20 @@ class InputCheckConfig(StrictModel):
     extra_words: list[str]
 
 
+class PersonaConfig(StrictModel):
+    """Who the robot says it is (``dialogue/persona.py``)."""
+
+    name: str = Field(min_length=1)
+    kind: str = Field(min_length=1)
+    likes: list[str] = Field(min_length=1)
+
+
 class ConversationConfig(StrictModel):
     """The whole file."""
 
     knowledge: KnowledgeConfig
     input_check: InputCheckConfig
+    persona: PersonaConfig
 
 
 @cache

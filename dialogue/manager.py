@@ -18,6 +18,7 @@ from typing import Any, Literal, Protocol, runtime_checkable
 
 from dialogue.input_check import InputCheck
 from dialogue.intent import CHITCHAT, MODES, IntentClassifier
+from dialogue.persona import Persona
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Action, Answer, DialogueError
 from dialogue.qa.bot import QABot
@@ -32,6 +33,8 @@ FOLLOWABLE = ("time", "weather", "news", "information", "related_topics", "map")
 FOLLOW_UP = re.compile(r"^(?:and|what about|how about|and what about|and how about)\b", re.I)
 INTRO = re.compile(r"\b(?:my name is|my name's|call me|i am called|i'm called)\s+"
                    r"([A-Za-z][\w'-]*(?-i: [A-Z][\w'-]*)?)", re.I)
+SHORT_INTRO = re.compile(r"^(?:(?:hi|hello|hey)\b[\s,!.]*)?(?:i'm|i am)\s+"
+                         r"((?-i:[A-Z][a-z][\w'-]*))[\s.!]*$", re.I)  # "Hi, I'm Anna."
 ASK_NAME = re.compile(r"\b(?:what(?:'s| is) my name|do you (?:know|remember) my name)\b", re.I)
 UNAVAILABLE = ("I'm sorry, my chit-chat model isn't loaded, so I can't chat freely right now. "
                "I can tell you the time or the weather, read the news, look things up, show "
@@ -102,7 +105,8 @@ class DialogueManager:
     def __init__(self, qa: QABot | None = None, *, classifier: IntentClassifier | None = None,
                  chitchat: ChitChat | None = None, style: StyleTransfer | None = None,
                  on_reply: Callable[[dict[str, Any]], None] | None = None,
-                 max_chars: int = MAX_CHARS, input_check: InputCheck | None = None) -> None:
+                 max_chars: int = MAX_CHARS, input_check: InputCheck | None = None,
+                 persona: Persona | None = None) -> None:
         self.qa = qa if qa is not None else QABot.offline()
         self.classifier = classifier or IntentClassifier.default()
         self.chitchat = chitchat
@@ -110,6 +114,7 @@ class DialogueManager:
         self.on_reply = on_reply
         self.max_chars = max_chars
         self.input_check = input_check or InputCheck.default()
+        self.persona = persona or Persona.default()
         self.context = DialogueContext()
 
     def respond(self, text: str, mood: Mood | bool = "positive",
@@ -148,8 +153,11 @@ class DialogueManager:
             text = (f"Your name is {ctx.name}." if ctx.name
                     else "You haven't told me your name yet. What is it?")
             return Reply(text, "context", mood=mood)
+        about_me = self.persona.answer(said, ctx.name)
+        if about_me is not None:
+            return Reply(about_me, "persona", mood=mood)
         greeting = ""
-        intro = INTRO.search(said)
+        intro = INTRO.search(said) or self._short_intro(said)
         if intro:
             ctx.name = intro.group(1).strip().title()
             greeting = f"Nice to meet you, {ctx.name}!"
@@ -171,6 +179,14 @@ class DialogueManager:
             reply = Reply(f"{greeting} {reply.text}", reply.route, reply.action, reply.tablet,
                           mood, found=reply.found)
         return reply
+
+    def _short_intro(self, said: str) -> re.Match[str] | None:
+        """ "I'm Anna" as a whole line; not "I'm Happy" (an adjective WordNet knows)."""
+        intro = SHORT_INTRO.search(said)
+        wordnet = self.input_check.wordnet
+        if intro and wordnet is not None and wordnet.base_forms(intro.group(1).lower(), "a"):
+            return None
+        return intro
 
     def _unclear(self, said: str, mood: str) -> Reply | None:
         """A short honest reply to a line of symbols, far too long, not English or not
