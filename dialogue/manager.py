@@ -31,6 +31,7 @@ MAX_CHARS = 500  # longer input is cut here
 HISTORY = 10  # turns kept in the context
 FOLLOWABLE = ("time", "weather", "news", "information", "related_topics", "map")
 FOLLOW_UP = re.compile(r"^(?:and|what about|how about|and what about|and how about)\b", re.I)
+MORE = re.compile(r"^(?:tell me |say )?(?:some )?more\b", re.I)  # after an answer about a topic
 INTRO = re.compile(r"\b(?:my name is|my name's|call me|i am called|i'm called)\s+"
                    r"([A-Za-z][\w'-]*(?-i: [A-Z][\w'-]*)?)", re.I)
 SHORT_INTRO = re.compile(r"^(?:(?:hi|hello|hey)\b[\s,!.]*)?(?:i'm|i am)\s+"
@@ -201,6 +202,9 @@ class DialogueManager:
         if (intent.source == "model" and ctx.last_route in FOLLOWABLE
                 and FOLLOW_UP.search(said) and not set(intent.cues) - {ctx.last_route}):
             return ctx.last_route  # "And in Paris?" after a time question: same category
+        if (intent.source == "model" and ctx.last_route == "information" and not intent.cues
+                and MORE.search(said)):
+            return ctx.last_route  # "Tell me more" after "Who was Albert Einstein?"
         return intent.label
 
     def _chitchat(self, said: str, mood: str, ctx: DialogueContext) -> Reply:

@@ -131,3 +131,18 @@ def test_knowledge_questions_are_marked_by_keywords(tmp_path: Path,
     small.write_text("thing\tWhat is a volcano?\n", encoding="utf-8")
     with pytest.raises(DialogueError, match=r"q\.tsv:1"):
         load_questions(small)
+
+
+def test_follow_ups_keep_the_topic(tmp_path: Path) -> None:
+    from dialogue.manager import DialogueManager
+    from dialogue.qa.bot import QABot
+
+    m = DialogueManager(QABot.offline(out_dir=tmp_path))
+    assert m.respond("Who was Albert Einstein?").text.startswith("Albert Einstein was")
+    more = m.respond("Tell me more")
+    assert more.route == "information" and "light" in more.text  # the gloss's next sentence
+    assert m.respond("tell me more about him").text == more.text
+    m.respond("What is a volcano?")
+    assert m.respond("tell me more about it").text == "That's all I know about it for now."
+    m.respond("What time is it?")
+    assert m.respond("tell me more").route != "information"

@@ -47,6 +47,12 @@ def clean_gloss(gloss: str) -> str:
     return " ".join(PARENS.sub("", first).split()).strip(" ,.:")
 
 
+def _rest(gloss: str) -> str:
+    """The gloss's further sentences, after the first, without examples or parentheticals."""
+    parts = [clean_gloss(p) for p in gloss.split(";")[1:] if not p.strip().startswith('"')]
+    return " ".join(f"{p[0].upper()}{p[1:]}." for p in parts if p)
+
+
 def article(phrase: str) -> str:
     """``phrase`` with "a" or "an" in front (by its first letter's sound, roughly)."""
     first = phrase.split()[0].lower() if phrase.split() else ""
@@ -102,9 +108,11 @@ class Encyclopedia:
         others = [s for s in senses if s.lexfile != PERSON]
         return people if who else others + people
 
-    def describe(self, phrase: str, who: bool = False, asked: str | None = None) -> Fact | None:
+    def describe(self, phrase: str, who: bool = False, asked: str | None = None,
+                 more: bool = False) -> Fact | None:
         """What ``phrase`` is (or who, for ``who``), or None when WordNet has no such sense.
-        ``asked`` is how the question wrote the thing ("a volcano"), used as the subject."""
+        ``asked`` is how the question wrote the thing ("a volcano"), used as the subject;
+        ``more`` asks for the rest of the gloss (a follow-up: "tell me more about him")."""
         senses = self.senses(phrase, who)
         if not senses:
             return None
@@ -114,9 +122,11 @@ class Encyclopedia:
         else:
             subject = asked or phrase
         key = normalise(phrase).removeprefix("the ")
+        lemma = next((w for w in best.lemmas if normalise(w) == key), best.lemmas[0])
+        if more:
+            return Fact(_rest(best.gloss) or "That's all I know about it for now.", lemma)
         plural = not best.instance and key not in {normalise(w) for w in best.lemmas}
         text = f"{subject} {_verb(best, plural)} {_predicate(best)}."
-        lemma = next((w for w in best.lemmas if normalise(w) == key), best.lemmas[0])
         return Fact(text[0].upper() + text[1:], lemma)
 
     def who_made(self, cue: str, phrase: str) -> Fact | None:

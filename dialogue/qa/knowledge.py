@@ -121,7 +121,8 @@ def answer_information(text: str, kb: KnowledgeBase, last_topic: str | None = No
         entry = kb.find(last_topic)
     if entry is not None:
         return Answer(entry.summary, tablet=entry.url, topic=entry.title)
-    fact = _look_up(text, topic, encyclopedia) if encyclopedia and topic else None
+    more = topic == last_topic and "more" in normalise(text).split()  # "tell me more"
+    fact = _look_up(text, topic, encyclopedia, more) if encyclopedia and topic else None
     if fact is not None:
         return Answer(fact.text, tablet=f"{WIKI}{quote(fact.topic.replace(' ', '_'))}",
                       topic=fact.topic)
@@ -131,7 +132,7 @@ def answer_information(text: str, kb: KnowledgeBase, last_topic: str | None = No
                   topic=named or None)
 
 
-def _look_up(text: str, topic: str, encyclopedia: Encyclopedia) -> Fact | None:
+def _look_up(text: str, topic: str, encyclopedia: Encyclopedia, more: bool) -> Fact | None:
     t = normalise(text)
     made = WHO_MADE.search(t) or AGENT_OF.search(t)
     if made:
@@ -141,7 +142,7 @@ def _look_up(text: str, topic: str, encyclopedia: Encyclopedia) -> Fact | None:
     words = topic.split()
     for n in range(len(words), 0, -1):  # the whole phrase, then its head ("the Nile river")
         phrase = " ".join(words[len(words) - n:])
-        fact = encyclopedia.describe(phrase, who, asked if n == len(words) else phrase)
+        fact = encyclopedia.describe(phrase, who, asked if n == len(words) else phrase, more)
         if fact is not None:
             return fact
     return None
