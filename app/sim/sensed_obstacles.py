@@ -66,9 +66,10 @@ class ObstacleMemory:
         return np.isfinite(self.seen) & (self.seen >= self.now - self.memory_s)
 
     def ahead(self, position: tuple[float, float], heading: float, reach: float,
-              half_width: float) -> bool:
-        """Whether an active cell's centre lies in the rectangle that reaches ``reach`` m
-        from ``position`` towards ``heading`` (rad) and ``half_width`` m to either side."""
+              half_width: float, near: float) -> bool:
+        """Whether an active cell's centre lies ahead of ``position`` towards ``heading``
+        (rad): in the rectangle ``reach`` m long and ``half_width`` m to either side, or in
+        the half disc of radius ``near`` on that side."""
         i, j = np.nonzero(self.active())
         if len(i) == 0:
             return False
@@ -76,7 +77,8 @@ class ObstacleMemory:
         dy = self.origin[1] + (j + 0.5) * self.resolution - position[1]
         c, s = np.cos(heading), np.sin(heading)
         along, side = c * dx + s * dy, -s * dx + c * dy
-        return bool(((along >= 0) & (along <= reach) & (np.abs(side) <= half_width)).any())
+        inside = ((along <= reach) & (np.abs(side) <= half_width)) | (np.hypot(dx, dy) <= near)
+        return bool((inside & (along >= 0)).any())
 
     def blocked(self, radius: float) -> np.ndarray:
         """The cells within ``radius`` of an active cell (centre to centre)."""

@@ -127,16 +127,17 @@ class FollowPath(StopBase):
 
     def _guard(self, pose: tuple[float, float, float], command: tuple[float, float, float],
                ) -> tuple[float, float, float]:
-        """``command`` without its translation while a sensed obstacle lies within
-        ``security_distance_m`` of the base's shell, plus the way covered in
-        ``security_time_s`` at the commanded speed, in the way it would move (the robot
-        still turns); being held this way counts as being blocked."""
+        """``command`` without its translation while a sensed obstacle lies on the side the
+        base would move to within ``security_distance_m`` of its shell, or straight in its
+        way (``robot_radius`` to either side) within that plus the way covered in
+        ``security_time_s`` at the commanded speed; the robot still turns. Being held
+        this way counts as being blocked."""
         vx, vy, wz = command
         cfg = self.ctx.config.charge
-        reach = (self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
-                 + math.hypot(vx, vy) * cfg.security_time_s)
+        near = self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
         self._held = (vx, vy) != (0.0, 0.0) and self.navigator.memory.ahead(
-            pose[:2], pose[2] + math.atan2(vy, vx), reach, cfg.robot_radius)
+            pose[:2], pose[2] + math.atan2(vy, vx),
+            near + math.hypot(vx, vy) * cfg.security_time_s, cfg.robot_radius, near)
         return (0.0, 0.0, wz) if self._held else command
 
 
