@@ -41,9 +41,9 @@ class FollowPath(StopBase):
     off the floor map; one of them on the path ahead means planning again (at most every
     ``replan_sensed_s``), and one close ahead stops the base's translation (a security
     distance); being blocked or held for ``replan_blocked_s`` (or having no path) means
-    planning again too. It never fails by itself (see :class:`Deadline`). A robot standing inside an
-    inflated obstacle first slides, without turning, to the free cell where the path
-    begins."""
+    planning again too. It never fails by itself (see :class:`Deadline`). A robot standing
+    inside an inflated obstacle first slides, without turning, to the free cell where the
+    path begins."""
 
     def __init__(self, name: str, ctx: Context, goal: Point) -> None:
         super().__init__(name, ctx, reads=("depth", "frame_t"))
@@ -81,6 +81,7 @@ class FollowPath(StopBase):
                   length=round(sum(map(math.dist, path, path[1:])), 3))
 
     def initialise(self) -> None:
+        self._held = False
         self._sense()
         self._plan()
 
