@@ -10,7 +10,8 @@ it, so the head camera's depth frames add their points too.
 
 ``--crossers N`` adds N people to each trial who walk back and forth across the robot's
 way: each crosses the path that the floor map alone gives (at a uniform 25-75 % of its
-length, square to it, 1-2 m to either side, at 0.6-1.2 m/s, from a uniform phase). A
+length, square to it, out to a drawn 1-2 m on either side as far as the floor is free,
+at least 0.4 m, at 0.6-1.2 m/s, from a uniform phase). A
 *contact* is the robot's own move bringing it within ``--contact-m`` of a person's body
 (the simulator's closest points, for scoring only; the move closed at least ``DRIVEN_M``
 on them in that step); ``touched`` counts any such closeness, also a scripted person
@@ -48,29 +49,39 @@ from behaviours.skills.charge import approach, predock_pose
 from behaviours.ticking import SimulationTree
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
+PERSON_RADIUS_M = 0.25   # m kept from the map's obstacles by a walk across the robot's way
+MIN_SIDE_M = 0.4   # m: a walk reaches at least this far to either side of the way
+TRIES = 10
 DRIVEN_M = 0.005   # m the robot's own move in one step must close on a person to be its doing
 
 
-def crossing(grid: OccupancyGrid, path: list[Point], rng: np.random.Generator,
+def crossing(walkable: OccupancyGrid, path: list[Point], rng: np.random.Generator,
              ) -> tuple[Point, Point] | None:
-    """Two free ends of a walk square to ``path`` across a uniform point of its middle half,
-    in line of sight of each other, or None when the path is too short or boxed in."""
+    """The ends of a walk square to ``path`` across a uniform point of its middle half: on
+    each side as far as a drawn 1-2 m while the way stays free for a person (``walkable``),
+    at least ``MIN_SIDE_M``; up to ``TRIES`` draws, else None."""
     legs = [math.dist(a, b) for a, b in itertools.pairwise(path)]
     if sum(legs) < 0.5:
         return None
-    at = rng.uniform(0.25, 0.75) * sum(legs)
-    k = 0
-    while at > legs[k]:
-        at, k = at - legs[k], k + 1
-    (ax, ay), (bx, by) = path[k], path[k + 1]
-    ux, uy = (bx - ax) / legs[k], (by - ay) / legs[k]
-    cx, cy = ax + at * ux, ay + at * uy
-    half = rng.uniform(1.0, 2.0)
-    while half >= 0.5:
-        ends = (cx - half * uy, cy + half * ux), (cx + half * uy, cy - half * ux)
-        if all(grid.is_free(*e) for e in ends) and grid.visible(*ends):
-            return ends
-        half *= 0.8
+    for _ in range(TRIES):
+        at = rng.uniform(0.25, 0.75) * sum(legs)
+        k = 0
+        while at > legs[k]:
+            at, k = at - legs[k], k + 1
+        (ax, ay), (bx, by) = path[k], path[k + 1]
+        ux, uy = (bx - ax) / legs[k], (by - ay) / legs[k]
+        centre, half = (ax + at * ux, ay + at * uy), rng.uniform(1.0, 2.0)
+        if not walkable.is_free(*centre):
+            continue
+        ends = []
+        for nx, ny in ((-uy, ux), (uy, -ux)):
+            side = 0.0
+            while side + 0.1 <= half and walkable.visible(
+                    centre, (centre[0] + (side + 0.1) * nx, centre[1] + (side + 0.1) * ny)):
+                side += 0.1
+            ends.append((centre[0] + side * nx, centre[1] + side * ny))
+        if min(math.dist(centre, e) for e in ends) >= MIN_SIDE_M:
+            return ends[0], ends[1]
     return None
 
 
@@ -124,6 +135,8 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
         world = World(scenario, client)
         navigator = Navigator(world, cfg.grid_resolution, cfg.robot_radius)
         grid, dock = navigator.grid(), world.dock_pose()
+        walkable = OccupancyGrid.build(world.room_bounds().values(), world.obstacles(),
+                                       cfg.grid_resolution, PERSON_RADIUS_M)
         # the trial's set-up, not the robot's knowledge: no start inside a person
         people = [o for o in world.obstacles(include_people=True) if o.kind == "person"]
         free = np.argwhere(~grid.with_obstacles(people).blocked)
@@ -136,7 +149,7 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
     finally:
         p.disconnect(client)
     people = [crosser(f"Crosser{i}", ends, cfg.timeout_s + 5.0, rng) for i in range(crossers)
-              if len(path) > 1 and (ends := crossing(grid, path, rng)) is not None]
+              if len(path) > 1 and (ends := crossing(walkable, path, rng)) is not None]
     if people:
         scenario = scenario.model_copy(update={"people": (*scenario.people, *people)})
     with Simulation(scenario) as sim:
