@@ -291,7 +291,6 @@ class Navigator:
 
     def __init__(self, world: World, resolution: float, radius: float, memory_s: float = 0.0,
                  static_margin: float = 0.1, clearance: float = 0.0) -> None:
-        self.world = world
         self.clearance = clearance
         rooms, static = tuple(world.room_bounds().values()), tuple(world.obstacles())
         self.planner = _static_planner(rooms, static, resolution, radius)
