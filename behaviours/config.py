@@ -43,6 +43,15 @@ class PidConfig(StrictModel):
     lookahead_m: PositiveFloat
 
 
+class DepthPointsConfig(StrictModel):
+    """Which pixels of a depth frame become obstacle points for the charge skill's planner."""
+
+    stride: PositiveInt
+    min_height_m: float = Field(ge=0.0)
+    max_height_m: PositiveFloat
+    max_range_m: PositiveFloat
+
+
 class ChargeConfig(StrictModel):
     """Charge skill: speech, path planning and docking tolerances."""
 
@@ -54,6 +63,13 @@ class ChargeConfig(StrictModel):
     waypoint_tolerance: PositiveFloat
     predock_distance: PositiveFloat
     replan_blocked_s: PositiveFloat
+    obstacle_memory_s: NonNegativeFloat
+    static_margin_m: NonNegativeFloat
+    sensed_clearance_m: NonNegativeFloat
+    replan_sensed_s: PositiveFloat
+    security_distance_m: NonNegativeFloat
+    security_time_s: NonNegativeFloat
+    depth_points: DepthPointsConfig
     dock_position_tolerance: PositiveFloat
     dock_yaw_tolerance_deg: PositiveFloat
     timeout_s: PositiveFloat

@@ -6,6 +6,8 @@ follower for the omnidirectional base (docs/navigation.md).
 - :class:`Planner`: shortest paths (scipy's compiled Dijkstra) on the 8-connected graph of
   a static grid's free cells, start and goal snapped to the nearest free cell, the path
   shortened by line of sight.
+- :class:`Navigator`: the static grid of one household layout with the obstacles the robot
+  has sensed lately on top (:class:`~app.sim.sensed_obstacles.ObstacleMemory`).
 - :class:`PathFollower`: two simple-pid controllers, heading error -> turn rate and
   remaining distance -> forward speed, the speed cut while the heading error is large.
 """
@@ -22,7 +24,9 @@ from scipy import ndimage, sparse
 from scipy.sparse import csgraph
 from simple_pid import PID
 
+from app.sim.lasers import Scan
 from app.sim.robot import wrap_angle
+from app.sim.sensed_obstacles import ObstacleMemory
 from app.sim.world import Footprint, Pose2D, World
 
 Point = tuple[float, float]
@@ -85,6 +89,20 @@ class OccupancyGrid:
             inside |= (xs >= rx0) & (xs <= rx1) & (ys >= ry0) & (ys <= ry1)
         grid.blocked = ndimage.distance_transform_edt(inside) * resolution <= radius
         return grid.with_obstacles(obstacles)
+
+    def near(self, rooms: Iterable[Bounds], obstacles: Iterable[Footprint],
+             margin: float) -> np.ndarray:
+        """Cells whose centre lies within ``margin`` of one of ``obstacles``, or outside
+        every room shrunk by ``margin``: what a map of these explains."""
+        xs, ys = self.centres()
+        inside = np.zeros(self.blocked.shape, dtype=bool)
+        for x0, y0, x1, y1 in rooms:
+            inside |= ((xs >= x0 + margin) & (xs <= x1 - margin) & (ys >= y0 + margin)
+                       & (ys <= y1 - margin))
+        out = ~inside
+        for f in obstacles:
+            out |= footprint_distance(f, xs, ys) <= margin
+        return out
 
     def with_obstacles(self, obstacles: Iterable[Footprint]) -> OccupancyGrid:
         """A copy with the cells within ``radius`` of ``obstacles`` blocked too."""
@@ -256,22 +274,53 @@ def _static_planner(rooms: tuple[Bounds, ...], obstacles: tuple[Footprint, ...],
     return Planner(OccupancyGrid.build(rooms, obstacles, resolution, radius))
 
 
-class Navigator:
-    """Plans in one world: the static grid and its graph are shared by every navigator of
-    the same household layout; people present at planning time are avoided too."""
+@lru_cache(maxsize=8)
+def _explained(rooms: tuple[Bounds, ...], obstacles: tuple[Footprint, ...], resolution: float,
+               radius: float, margin: float) -> np.ndarray:
+    return _static_planner(rooms, obstacles, resolution, radius).grid.near(rooms, obstacles,
+                                                                            margin)
 
-    def __init__(self, world: World, resolution: float, radius: float) -> None:
-        self.world = world
-        self.planner = _static_planner(tuple(world.room_bounds().values()),
-                                       tuple(world.obstacles()), resolution, radius)
+
+class Navigator:
+    """Plans in one world: the static grid (the floor map) and its graph are shared by every
+    navigator of the same household layout; the obstacles its sensors reported lately
+    (:meth:`observe`, :meth:`add_points`) are avoided too, with ``clearance`` m more room
+    than the map's (they may be people: arms swing wider than the legs the scanners see).
+    The simulator's people are never looked up: the robot avoids them only once it has
+    sensed them."""
+
+    def __init__(self, world: World, resolution: float, radius: float, memory_s: float = 0.0,
+                 static_margin: float = 0.1, clearance: float = 0.0) -> None:
+        self.clearance = clearance
+        rooms, static = tuple(world.room_bounds().values()), tuple(world.obstacles())
+        self.planner = _static_planner(rooms, static, resolution, radius)
+        grid = self.planner.grid
+        self.memory = ObstacleMemory(_explained(rooms, static, resolution, radius, static_margin),
+                                     grid.origin, resolution, memory_s)
+
+    def observe(self, scan: Scan, now: float) -> None:
+        """A laser scan at ``now``: its rays clear the cells they passed, its hits mark theirs."""
+        self.memory.observe(scan, now)
+
+    def add_points(self, points: np.ndarray, now: float) -> None:
+        """Surface points ((N, 2) m on the floor) another sensor saw at ``now``."""
+        self.memory.add(points, now)
+
+    def sensed_grid(self) -> OccupancyGrid:
+        """Only the cells near obstacles sensed lately blocked (not the map's)."""
+        static = self.planner.grid
+        return OccupancyGrid(self.memory.blocked(static.radius + self.clearance), static.origin,
+                             static.resolution, static.radius)
 
     def grid(self) -> OccupancyGrid:
-        """The static grid with the people who are in the house now."""
-        return self.planner.grid.with_obstacles(
-            o for o in self.world.obstacles(include_people=True) if o.kind == "person")
+        """The static grid with the cells near obstacles sensed lately blocked too."""
+        sensed = self.sensed_grid()
+        sensed.blocked |= self.planner.grid.blocked
+        return sensed
 
     def plan(self, start: Point, goal: Point) -> list[Point] | None:
-        """Waypoints from ``start`` to ``goal`` around obstacles and people, or None."""
+        """Waypoints from ``start`` to ``goal`` around the map's and the sensed obstacles,
+        or None."""
         return self.planner.plan(start, goal, self.grid())
 
 

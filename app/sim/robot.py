@@ -24,6 +24,7 @@ from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
 from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
+from app.sim.lasers import LaserScanners, LasersConfig
 from app.sim.render import Buffers, tiny_render
 from app.sim.voices import Voice
 
@@ -107,6 +108,7 @@ class RobotConfig(StrictModel):
     thermal: ThermalConfig
     camera: CameraConfig
     microphones: MicrophonesConfig
+    lasers: LasersConfig
 
     @model_validator(mode="after")
     def _postures_known(self) -> Self:
@@ -273,6 +275,8 @@ class Robot:
         self._camera_fault: str | None = None
         self._last_render: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         self.frame_seq = 0   # sequence number of the camera's frames (a frozen camera repeats)
+        #: the base's laser scanners (app/sim/lasers.py)
+        self.lasers = LaserScanners(client, self.body_id, self.cfg.lasers, self.pose)
         self._held = self._setpoint
         self._send_motor_commands(self._setpoint, self._joint_velocity)
 

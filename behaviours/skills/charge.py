@@ -6,6 +6,7 @@ charger is unplugged."""
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 from typing import Any
 
 import py_trees
@@ -15,6 +16,7 @@ from app.sim.navigation import Navigator, PathFollower, Point
 from app.sim.robot import wrap_angle
 from app.sim.world import Pose2D
 from behaviours.context import Context
+from behaviours.obstacle_sensing import ObstacleSensing
 from behaviours.skill import ContextBehaviour, Relieve, Say
 
 ESCAPED_M = 0.02   # m: this close to the free cell where the path begins, the slide ends
@@ -35,24 +37,33 @@ class StopBase(ContextBehaviour):
 
 class FollowPath(StopBase):
     """Plan a path to ``goal`` and follow it; SUCCESS within the waypoint tolerance of the
-    goal. Blocked for ``replan_blocked_s`` (or without a path) it plans again from where the
-    robot is, around the people there now; it never fails by itself (see :class:`Deadline`).
-    A robot standing inside an inflated obstacle first slides, without turning, to the
-    free cell where the path begins."""
+    goal. The laser scanners (every tick) and the depth camera (its frames) report obstacles
+    off the floor map; one of them on the path ahead means planning again (at most every
+    ``replan_sensed_s``), and one close ahead stops the base's translation (a security
+    distance); being blocked or held for ``replan_blocked_s`` (or having no path) means
+    planning again too. It never fails by itself (see :class:`Deadline`). A robot standing
+    inside an inflated obstacle first slides, without turning, to the free cell where the
+    path begins."""
 
     def __init__(self, name: str, ctx: Context, goal: Point) -> None:
-        super().__init__(name, ctx)
+        super().__init__(name, ctx, reads=("depth", "frame_t"))
         self.goal = goal
         self.navigator: Navigator | None = None   # set in setup(), with the follower
+        self.sensing: ObstacleSensing | None = None
         self.follower: PathFollower | None = None
         self._stuck_since: float | None = None
+        self._planned_at = -math.inf
+        self._held = False
         self._has_path = False
         self._escape: Point | None = None
 
     def setup(self, **kwargs: Any) -> None:
-        """The planner on the floor map's occupancy grid, and the path follower."""
+        """The planner on the floor map's occupancy grid, its sensors, and the follower."""
         cfg = self.ctx.config.charge
-        self.navigator = Navigator(self.ctx.world, cfg.grid_resolution, cfg.robot_radius)
+        self.navigator = Navigator(self.ctx.world, cfg.grid_resolution, cfg.robot_radius,
+                                   cfg.obstacle_memory_s, cfg.static_margin_m,
+                                   cfg.sensed_clearance_m)
+        self.sensing = ObstacleSensing(self.ctx, self.navigator)
         self.follower = self.ctx.path_follower()
 
     def _plan(self) -> None:
@@ -60,6 +71,7 @@ class FollowPath(StopBase):
         path = self.navigator.plan((x, y), self.goal)
         self._has_path = path is not None
         self._stuck_since = None
+        self._planned_at = self.now
         if path is None:
             self.emit("no_path", start=[x, y], goal=list(self.goal))
             return
@@ -69,18 +81,38 @@ class FollowPath(StopBase):
                   length=round(sum(map(math.dist, path, path[1:])), 3))
 
     def initialise(self) -> None:
+        self._held = False
+        self._sense()
         self._plan()
+
+    def _sense(self) -> None:
+        self.sensing.update(self.now, self.bb.depth, self.bb.frame_t)
+
+    def _path_ahead_clear(self) -> bool:
+        """Whether the rest of the path, from where the robot is (through the free cell it
+        slides to first, if it does), keeps clear of the obstacles sensed since it was
+        planned (the cells around the robot itself excepted)."""
+        grid = self.navigator.sensed_grid()
+        escape = [self._escape] if self._escape is not None else []
+        rest = [self.ctx.robot.pose()[:2], *escape, *self.follower.path[self.follower.index:]]
+        return grid.clear_ahead(rest[0], rest[1]) and all(
+            grid.visible(a, b) for a, b in pairwise(rest[1:]))
 
     def update(self) -> Status:
         robot = self.ctx.robot
+        self._sense()
         if self._has_path and self.follower.arrived(*robot.pose()[:2]):
             return Status.SUCCESS
-        if self._has_path and not robot.blocked:
+        if (self._has_path and self.now - self._planned_at >= self.ctx.config.charge.replan_sensed_s
+                and not self._path_ahead_clear()):
+            self.emit("replan", pose=list(robot.pose()), reason="sensed")
+            self._plan()
+        if self._has_path and not robot.blocked and not self._held:
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now
         elif self.now - self._stuck_since >= self.ctx.config.charge.replan_blocked_s:
-            self.emit("replan", pose=list(robot.pose()))
+            self.emit("replan", pose=list(robot.pose()), reason="blocked")
             self._plan()
         robot.set_base_velocity(*self._command())
         return Status.RUNNING
@@ -90,9 +122,24 @@ class FollowPath(StopBase):
         if not self._has_path:
             return 0.0, 0.0, 0.0
         if self._escape is not None and math.dist(pose[:2], self._escape) > ESCAPED_M:
-            return self.follower.approach(pose, Pose2D(*self._escape, pose[2]))
+            return self._guard(pose, self.follower.approach(pose, Pose2D(*self._escape, pose[2])))
         self._escape = None
-        return self.follower.command(pose)
+        return self._guard(pose, self.follower.command(pose))
+
+    def _guard(self, pose: tuple[float, float, float], command: tuple[float, float, float],
+               ) -> tuple[float, float, float]:
+        """``command`` without its translation while a sensed obstacle lies on the side the
+        base would move to within ``security_distance_m`` of its shell, or straight in its
+        way (``robot_radius`` to either side) within that plus the way covered in
+        ``security_time_s`` at the commanded speed; the robot still turns. Being held
+        this way counts as being blocked."""
+        vx, vy, wz = command
+        cfg = self.ctx.config.charge
+        near = self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
+        self._held = (vx, vy) != (0.0, 0.0) and self.navigator.memory.ahead(
+            pose[:2], pose[2] + math.atan2(vy, vx),
+            near + math.hypot(vx, vy) * cfg.security_time_s, cfg.robot_radius, near)
+        return (0.0, 0.0, wz) if self._held else command
 
 
 class DockIn(StopBase):

@@ -1,0 +1,88 @@
+"""Obstacles the robot senses that its floor map does not hold: people, a dropped box.
+
+The floor map (walls, furniture, floor objects, the dock's plate) is known beforehand, like
+a map a home robot builds on its first run. Everything else the planner avoids comes from
+the sensors: points where a laser ray or a depth-camera pixel met a surface that the map
+does not explain (farther than ``static_margin`` from every mapped footprint) mark their
+grid cell as seen *now*. A cell stays an obstacle for ``memory_s`` after it was last seen,
+or until a laser ray passes through it to something farther (the cell was seen free). The
+planner inflates these cells by the robot's radius like the map's obstacles
+(docs/navigation.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from app.sim.lasers import Scan
+
+
+class ObstacleMemory:
+    """Grid cells where sensors met something the map does not explain, with when."""
+
+    def __init__(self, explained: np.ndarray, origin: tuple[float, float], resolution: float,
+                 memory_s: float) -> None:
+        self.explained = explained
+        self.origin = np.asarray(origin, dtype=float)
+        self.resolution = resolution
+        self.memory_s = memory_s
+        self.seen = np.full(explained.shape, -np.inf)   # when each cell was last seen occupied
+        self.now = -np.inf
+
+    def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Indices of the cells holding ``points`` ((N, 2) m), those inside the grid only."""
+        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
+                      / self.resolution).astype(int)
+        ok = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
+        return ij[ok, 0], ij[ok, 1]
+
+    def add(self, points: np.ndarray, now: float) -> None:
+        """Points ((N, 2) m) where a sensor met a surface at time ``now``."""
+        self.now = max(self.now, now)
+        i, j = self._cells(points)
+        keep = ~self.explained[i, j]
+        self.seen[i[keep], j[keep]] = now
+
+    def clear(self, scan: Scan, now: float) -> None:
+        """Forget the cells the rays of ``scan`` passed through: from each ray's start to a
+        cell short of where it ended."""
+        self.now = max(self.now, now)
+        step = self.resolution / 2
+        for origin, end in zip(scan.origins, scan.ends, strict=True):
+            length = float(np.hypot(*(end - origin))) - self.resolution
+            if length <= 0:
+                continue
+            t = np.arange(0.0, length, step)[:, None] / (length + self.resolution)
+            self.seen[self._cells(origin + t * (end - origin))] = -np.inf
+
+    def observe(self, scan: Scan, now: float) -> None:
+        """A laser scan: free space along its rays first, then its hits."""
+        self.clear(scan, now)
+        self.add(scan.points, now)
+
+    def active(self) -> np.ndarray:
+        """The cells seen occupied within the last ``memory_s`` seconds."""
+        return np.isfinite(self.seen) & (self.seen >= self.now - self.memory_s)
+
+    def ahead(self, position: tuple[float, float], heading: float, reach: float,
+              half_width: float, near: float) -> bool:
+        """Whether an active cell's centre lies ahead of ``position`` towards ``heading``
+        (rad): in the rectangle ``reach`` m long and ``half_width`` m to either side, or in
+        the half disc of radius ``near`` on that side."""
+        i, j = np.nonzero(self.active())
+        if len(i) == 0:
+            return False
+        dx = self.origin[0] + (i + 0.5) * self.resolution - position[0]
+        dy = self.origin[1] + (j + 0.5) * self.resolution - position[1]
+        c, s = np.cos(heading), np.sin(heading)
+        along, side = c * dx + s * dy, -s * dx + c * dy
+        inside = ((along <= reach) & (np.abs(side) <= half_width)) | (np.hypot(dx, dy) <= near)
+        return bool((inside & (along >= 0)).any())
+
+    def blocked(self, radius: float) -> np.ndarray:
+        """The cells within ``radius`` of an active cell (centre to centre)."""
+        active = self.active()
+        if not active.any():
+            return active
+        return ndimage.distance_transform_edt(~active) * self.resolution <= radius

@@ -1,0 +1,45 @@
+"""What the charge skill's planner learns of obstacles off the floor map: the base's laser
+scanners at every tick and, when Sense took a head-camera frame this tick, its depth image
+(docs/navigation.md). The simulator's people are never looked up."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.sim.navigation import Navigator
+from behaviours.context import Context
+from behaviours.person_range import PersonRange
+
+
+class ObstacleSensing:
+    """Feeds ``navigator`` the robot's scans and depth frames."""
+
+    def __init__(self, ctx: Context, navigator: Navigator) -> None:
+        self.ctx, self.navigator = ctx, navigator
+        self.range = PersonRange(ctx.robot, ctx.config.perception)
+        self._frame_t = -np.inf
+
+    def update(self, now: float, depth: np.ndarray | None, frame_t: float) -> None:
+        """A laser scan now, and the depth frame if it was taken now (the camera pose it
+        was taken from is the pose now) and not used yet."""
+        self.navigator.observe(self.ctx.robot.lasers.scan(), now)
+        if depth is not None and frame_t == now and frame_t != self._frame_t:
+            self._frame_t = frame_t
+            self.navigator.add_points(self.depth_points(depth), now)
+
+    def depth_points(self, depth: np.ndarray) -> np.ndarray:
+        """Floor positions ((N, 2) m) of a sparse grid of the frame's pixels whose surface
+        lies between ``min_height_m`` and ``max_height_m`` above the floor and within
+        ``max_range_m`` of the base (outside the base's own shell)."""
+        cfg, robot = self.ctx.config.charge.depth_points, self.ctx.robot
+        rows = np.arange(cfg.stride // 2, depth.shape[0], cfg.stride)
+        cols = np.arange(cfg.stride // 2, depth.shape[1], cfg.stride)
+        z = depth[np.ix_(rows, cols)]
+        pos, rays = self.range.rays(depth.shape, cols[None, :] + 0.5, rows[:, None] + 0.5)
+        points = pos + z[..., None] * rays
+        x, y, _ = robot.pose()
+        reach = np.hypot(points[..., 0] - x, points[..., 1] - y)
+        keep = ((z < robot.cfg.camera.far * 0.99) & (points[..., 2] >= cfg.min_height_m)
+                & (points[..., 2] <= cfg.max_height_m) & (reach <= cfg.max_range_m)
+                & (reach >= robot.cfg.lasers.mount_radius_m))
+        return points[keep][:, :2]
