@@ -18,6 +18,7 @@ from app.core.signals import exit_status, signal_name, terminable
 DOMAINS = ["app.mind.policy.training.cli", "app.mind.preferences.evaluation.cli",
            "app.mind.preferences.cli",
            "dialogue.cli", "dialogue.style.training.cli", "dialogue.chat.training.cli",
+           "dialogue.speech.training.cli",
            "perception.detector.training.cli",
            "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",
            "app.sweep.cli"]

@@ -3,10 +3,12 @@
 - people's social events (the simulation's inbox): lines said to the robot (as its
   microphones heard them) are queued in ``heard`` and, like a person in front, make the
   human-present stimulus: someone talking to the robot is an interaction; praise switches
-  the encouragement stimulus on for ``encouragement_s``; a shown
-  emotion colours the mood for ``emotion_hold_s``; feedback (praise or scolding, r_external)
+  the encouragement stimulus on for ``encouragement_s``; feedback (praise or scolding, r_external)
   is queued in ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave
   feedback last is ``person``;
+- an emotion counts only on a face the detector found in the current frame (what the face
+  at the box's centre shows, :meth:`app.sim.world.World.expression_of`, standing in for an
+  expression classifier); it colours the mood for ``emotion_hold_s`` after it was last seen;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
   once no person has been seen in a frame nor heard for ``idle_after_s``) go through the
@@ -25,7 +27,7 @@ import numpy as np
 from py_trees.common import Status
 
 from app.sim.hearing import HeardLine
-from app.sim.world import EmotionEvent, EncourageEvent, FeedbackEvent
+from app.sim.world import EncourageEvent, FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
@@ -74,10 +76,6 @@ class Sense(ContextBehaviour):
                 self.bb.feedback = [*self.bb.feedback, ev]
                 self.bb.person = (ev.person, self.now)
                 self.emit("feedback", person=ev.person, value=ev.value, about=ev.about)
-            elif isinstance(ev, EmotionEvent):
-                self.bb.emotion = EMOTION_VALUE[ev.emotion]
-                self._emotion_until = self.now + cfg.emotion_hold_s
-                self.emit("emotion", person=ev.person, emotion=ev.emotion)
         self.ctx.inbox.clear()
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
@@ -107,8 +105,25 @@ class Sense(ContextBehaviour):
         people = people_in_view(ctx, detections)
         if people:
             self._noticed = self.now
+        self._expressions(frame, detections)
         if any(self._in_front(d) for d in people):
             self._present_until = self.now + cfg.present_hold_s
+
+    def _expressions(self, frame: np.ndarray, detections: list[Detection]) -> None:
+        """The emotion on each face found in this frame colours the mood."""
+        height, width = frame.shape[:2]
+        for face in detections:
+            if face.cls != "face" or face.conf < self.ctx.config.perception.min_conf:
+                continue
+            body = self.ctx.robot.body_at_pixel(*face.centre, width, height)
+            emotion = self.ctx.world.expression_of(body) if body is not None else None
+            if emotion is None:
+                continue
+            value = EMOTION_VALUE[emotion]
+            if value != self.bb.emotion or self.now >= self._emotion_until:
+                self.emit("emotion", emotion=emotion, seen=True)
+            self.bb.emotion = value
+            self._emotion_until = self.now + self.ctx.config.emotion_hold_s
 
     def _rate(self) -> float:
         """Camera frames per second now: what a steering skill asks for; else the scenario's

@@ -47,6 +47,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="weather block file (default: dialogue/data/weather_sample.yaml)")
     p.add_argument("--feed", type=Path, default=None,
                    help="RSS/Atom file for news (default: dialogue/data/news_sample.xml)")
+    p.add_argument("--audio", type=Path, default=None, metavar="FILE.wav",
+                   help="transcribe this WAV file (16-bit PCM) with the robot's speech "
+                        "recogniser, answer it, and leave")
     p.add_argument("--out", type=Path, default=None,
                    help="keep the session's maps, photos and reply log (dialogue.jsonl) in this "
                         "folder (default: a temporary folder, removed when the session ends, "
@@ -120,6 +123,8 @@ def _chat(args: argparse.Namespace, folder: Path, stdin: TextIO, out: TextIO) ->
     manager.context.mode = args.mode
     computed, value, threshold = robot_mood(drives, personality)
     state = {"computed": computed, "mood": args.mood or computed}
+    if args.audio is not None:
+        return _answer_audio(args, manager, state["mood"], out)
     if args.json:
         try:
             for raw in stdin:
@@ -152,6 +157,24 @@ def _chat(args: argparse.Namespace, folder: Path, stdin: TextIO, out: TextIO) ->
             continue
         _print_reply(manager.respond(line, state["mood"]), out)
         out.flush()
+
+
+def _answer_audio(args: argparse.Namespace, manager: Any, mood: str, out: TextIO) -> int:
+    """``chat --audio FILE.wav``: what the recogniser heard in the file, and the answer."""
+    from dialogue.speech.recognizer import SpeechRecognizer
+    from dialogue.speech.wav import read_wav
+
+    samples, rate = read_wav(args.audio)
+    heard = SpeechRecognizer().transcribe(samples, rate)
+    reply = manager.respond(heard.text, mood, confidence=heard.confidence)
+    if args.json:
+        print(json.dumps({"heard": heard.text, "confidence": round(heard.confidence, 3),
+                          "snr_db": round(heard.snr_db, 1), **reply.to_dict()}), file=out)
+        return 0
+    print(f"heard: {heard.text or '(no words)'} (confidence {heard.confidence:.2f}, "
+          f"{heard.snr_db:.0f} dB over the noise)", file=out)
+    _print_reply(reply, out)
+    return 0
 
 
 def _readline(stdin: TextIO, out: TextIO) -> str:

@@ -30,6 +30,7 @@ from dialogue.qa.home_map import plan_from_scenario
 from dialogue.qa.music import Songs
 from dialogue.qa.news import SAMPLE_FEED, check_feed
 from dialogue.qa.places import lookup
+from dialogue.speech.config import load_speech_config
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
 
@@ -68,7 +69,8 @@ def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir
                out_dir=out_dir, clock=clock, take_photo=take_photo, songs=songs)
     style = shipped_style() if style == "shipped" else style
     return DialogueManager(qa, chitchat=shipped_chitchat(), style=style,
-                           on_reply=reply_logger(out_dir / "dialogue.jsonl"))
+                           on_reply=reply_logger(out_dir / "dialogue.jsonl"),
+                           min_confidence=load_speech_config().min_confidence)
 
 
 def chat_session(scenario_path: Path | None, default_scenario: Path, weather_path: Path | None,
@@ -98,7 +100,8 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
     qa = QABot(weather=weather, feed=feed or SAMPLE_FEED, household=household, out_dir=out,
                take_photo=scenario_camera(scenario_path or default_scenario, out))
     manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
-                              on_reply=reply_logger(out / "dialogue.jsonl"))
+                              on_reply=reply_logger(out / "dialogue.jsonl"),
+                              min_confidence=load_speech_config().min_confidence)
     return manager, drives, personality
 
 

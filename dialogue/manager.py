@@ -71,6 +71,10 @@ class StyleTransfer(Protocol):
         ...
 
 
+SAY_AGAIN = "Sorry, could you say that again?"
+NOT_UNDERSTOOD = "I'm sorry, I still can't make out what you said."
+
+
 @dataclass(frozen=True)
 class Reply:
     """What the robot says, through which route, any action, and what the tablet shows."""
@@ -107,8 +111,9 @@ class DialogueManager:
                  chitchat: ChitChat | None = None, style: StyleTransfer | None = None,
                  on_reply: Callable[[dict[str, Any]], None] | None = None,
                  max_chars: int = MAX_CHARS, input_check: InputCheck | None = None,
-                 persona: Persona | None = None) -> None:
+                 persona: Persona | None = None, min_confidence: float = 0.0) -> None:
         self.qa = qa if qa is not None else QABot.offline()
+        self.min_confidence = min_confidence    # of a transcript, to act on it
         self.classifier = classifier or IntentClassifier.default()
         self.chitchat = chitchat
         self.style = style
@@ -119,10 +124,13 @@ class DialogueManager:
         self.context = DialogueContext()
 
     def respond(self, text: str, mood: Mood | bool = "positive",
-                context: DialogueContext | None = None) -> Reply:
+                context: DialogueContext | None = None, confidence: float = 1.0) -> Reply:
         """Reply to ``text``. ``mood`` (or True for positive) styles chit-chat replies;
-        ``context`` defaults to the manager's own. Never raises for any input text; a bad
-        ``mood`` or ``context.mode`` is a :class:`DialogueError`."""
+        ``context`` defaults to the manager's own. A transcript of speech whose
+        ``confidence`` is under ``min_confidence`` is not acted on: the robot asks for it
+        again (route ``say_again``), and says it cannot make it out when the line after
+        that is unclear too (``not_understood``). Never raises for any input text; a bad ``mood`` or
+        ``context.mode`` is a :class:`DialogueError`."""
         mood = ("positive" if mood else "negative") if isinstance(mood, bool) else mood
         if mood not in ("positive", "negative"):
             raise DialogueError(f"mood must be 'positive' or 'negative', got {mood!r}")
@@ -131,7 +139,8 @@ class DialogueManager:
             raise DialogueError(f"unknown mode {ctx.mode!r}; choose from {', '.join(MODES)}")
         said = clean_input(text, self.max_chars)
         try:
-            reply = self._respond(said, mood, ctx)
+            reply = (self._unsure(mood, ctx) if confidence < self.min_confidence
+                     else self._respond(said, mood, ctx))
         except Exception:  # the robot must keep talking whatever goes wrong inside
             log.exception("dialogue failed on %r", said)
             reply = Reply("Sorry, something went wrong while I was thinking about that.",
@@ -142,6 +151,13 @@ class DialogueManager:
         if self.on_reply:
             self.on_reply(record)
         return reply
+
+    @staticmethod
+    def _unsure(mood: str, ctx: DialogueContext) -> Reply:
+        """Ask for an unclear line again, once: after a second unclear line, say so."""
+        if ctx.history and ctx.history[-1][1] == SAY_AGAIN:
+            return Reply(NOT_UNDERSTOOD, "not_understood", mood=mood, found=False)
+        return Reply(SAY_AGAIN, "say_again", mood=mood, found=False)
 
     def _respond(self, said: str, mood: str, ctx: DialogueContext) -> Reply:
         unclear = self._unclear(said, mood)

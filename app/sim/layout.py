@@ -64,6 +64,16 @@ class Door(StrictModel):
     width: float = Field(default=0.9, gt=0.3, le=3)
 
 
+class RoomNoise(StrictModel):
+    """A room's background sound (app/sim/acoustics.py): a steady ``level_db`` (dB SPL) all
+    over the room, and optionally a ``source`` (a furniture item's name, e.g. the TV)
+    playing at ``source_db`` one metre in front of it."""
+
+    level_db: float = Field(default=30.0, ge=0, le=90)
+    source: str | None = None
+    source_db: float = Field(default=60.0, ge=0, le=100)
+
+
 class Room(StrictModel):
     """An axis-aligned rectangular room with walls on all four sides and optional doors."""
 
@@ -76,6 +86,7 @@ class Room(StrictModel):
     floor_colour: Colour = "#b89a74"
     ceiling: bool = True
     doors: tuple[Door, ...] = ()
+    noise: RoomNoise = RoomNoise()
 
     @model_validator(mode="after")
     def _geometry(self) -> Room:

@@ -22,6 +22,7 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
+from app.sim.acoustics import AcousticsConfig
 from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
 from app.sim.lasers import LaserScanners, LasersConfig
@@ -109,6 +110,7 @@ class RobotConfig(StrictModel):
     camera: CameraConfig
     microphones: MicrophonesConfig
     lasers: LasersConfig
+    acoustics: AcousticsConfig
 
     @model_validator(mode="after")
     def _postures_known(self) -> Self:
@@ -515,6 +517,19 @@ class Robot:
         proj = p.computeProjectionMatrixFOV(cam.fov_deg, width / height, cam.near, cam.far,
                                             physicsClientId=self.client)
         return view, proj
+
+    def body_at_pixel(self, u: float, v: float, width: int, height: int) -> int | None:
+        """The body the head camera sees at pixel ``(u, v)`` of a ``width`` x ``height``
+        frame: a ray cast along that pixel's line of sight (None: nothing, or the robot)."""
+        eye, forward, up = self.camera_pose()
+        half = math.tan(math.radians(self.cfg.camera.fov_deg) / 2)
+        x = (2 * (u + 0.5) / width - 1) * half * width / height
+        y = (1 - 2 * (v + 0.5) / height) * half
+        ray = forward + x * np.cross(forward, up) + y * up
+        ray /= np.linalg.norm(ray)
+        hit = p.rayTest((eye + 0.05 * ray).tolist(), (eye + self.cfg.camera.far * ray).tolist(),
+                        physicsClientId=self.client)[0][0]
+        return hit if hit >= 0 and hit != self.body_id else None
 
     def _render(self, width: int, height: int, flags: int
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -263,6 +263,9 @@ def _layout_problems(s: Scenario) -> list[str]:
     out += [f"people: {n!r} is reserved for who a line is said to; pick another name"
             for n in AUDIENCES if n in {p.name for p in s.people}]
     furniture = {f.name: f for f in s.furniture}
+    out += [f"rooms[{i}].noise.source: no furniture named {r.noise.source!r}"
+            for i, r in enumerate(s.rooms)
+            if r.noise.source is not None and r.noise.source not in furniture]
     for i, o in enumerate(s.objects):
         base = furniture.get(o.on_top_of) if o.on_top_of else None
         if o.on_top_of is not None and base is None:

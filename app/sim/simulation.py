@@ -17,7 +17,7 @@ from app.sim.scenario import Scenario, load_scenario, voice_of
 from app.sim.speech import speech_seconds, write_wav
 from app.sim.split_render import SplitRenderer
 from app.sim.voices import VoiceError, synthesise
-from app.sim.world import SayEvent, SocialEvent, World
+from app.sim.world import EmotionEvent, SayEvent, SocialEvent, World
 
 log = logging.getLogger(__name__)
 
@@ -31,9 +31,10 @@ class Simulation:
     people's timeline by one scenario step and returns the social events that fell due. A
     line a person says comes once they have finished saying it (people talk at the robot's
     own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
-    (:class:`app.sim.hearing.HeardLine`). With ``camera_helper`` a second process renders
-    part of each camera frame (:class:`app.sim.split_render.SplitRenderer`; for a run with two
-    cores). With ``voices_dir`` every line a person says is spoken in their voice
+    (:class:`app.sim.hearing.HeardLine`). An emotion a person shows is on their face
+    (:meth:`World.show_emotion`), for the camera to see. With ``camera_helper`` a second
+    process renders part of each camera frame (:class:`app.sim.split_render.SplitRenderer`;
+    for a run with two cores). With ``voices_dir`` every line a person says is spoken in their voice
     (:func:`app.sim.scenario.voice_of`) into ``voices_dir/line-NNNN.wav``, NNNN the line's
     number (:attr:`HeardLine.line`).
     """
@@ -84,6 +85,8 @@ class Simulation:
         for e in said:
             if isinstance(e, SayEvent):
                 self._speaking.append((e.t + speech_seconds(e.text), e))
+            elif isinstance(e, EmotionEvent):     # on their face, for the camera to see
+                self.world.show_emotion(e.person, e.emotion)
             else:
                 events.append(e)
         events += [self._hear(e) for end, e in self._speaking if end <= t_next + 1e-9]

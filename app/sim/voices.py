@@ -61,14 +61,17 @@ class Voice(StrictModel):
 
 
 # Voices people get when their scenario gives none, in the order they are listed: different
-# accents, sexes and pitches, so that each person of a household sounds like themselves.
+# voicings and pitches, so that each person of a household sounds like themselves, all in
+# General American at an unhurried pace: the ones the robot's speech recogniser hears best of
+# espeak-ng's (docs/speech.md; the British, Scottish and Caribbean accents and the faster
+# voices first tried here more than doubled its word error rate).
 PEOPLE_VOICES = (
-    Voice(name="en-us", variant="f3", pitch=62, speed=150),
-    Voice(name="en", variant="m3", pitch=40, speed=145),
-    Voice(name="en-GB-scotland", variant="f2", pitch=55, speed=140),
-    Voice(name="en-029", variant="m1", pitch=45, speed=155),
-    Voice(name="en-us", variant="f5", pitch=70, speed=160),
-    Voice(name="en-GB-x-rp", variant="m7", pitch=35, speed=135),
+    Voice(name="en-us", variant="klatt4", pitch=52, speed=130),
+    Voice(name="en-us", variant="f5", pitch=70, speed=125),
+    Voice(name="en-us", variant="f2", pitch=60, speed=135),
+    Voice(name="en-us", variant="klatt3", pitch=42, speed=130),
+    Voice(name="en-us", variant="klatt", pitch=50, speed=140),
+    Voice(name="en-us", variant="klatt2", pitch=38, speed=125),
 )
 
 

@@ -304,6 +304,7 @@ class World:
                            s.shadows)
         self.bodies: dict[str, int] = {}
         self.people: dict[str, Person] = {}
+        self.expressions: dict[str, str] = {}   # what each person's face shows
         self._specs = {person.name: person for person in scenario.people}
         self._walks: dict[str, _Walk] = {}
         self._parked: dict[str, Person] = {}   # bodies of people who left, kept for their return
@@ -633,6 +634,19 @@ class World:
         """Where the furniture item or object ``name`` stands (its base, m)."""
         pos, _ = p.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)
         return pos
+
+    def show_emotion(self, person: str, emotion: str) -> None:
+        """``person``'s face shows ``emotion`` from now on (until they show another)."""
+        self.expressions[person] = emotion
+
+    def expression_of(self, body_id: int) -> str | None:
+        """The emotion the face of the person whose body is ``body_id`` shows, or None (no
+        person, or a neutral face). What an expression classifier would read off a face the
+        camera sees: the caller must have found the face in a frame first."""
+        for name, person in self.people.items():
+            if person.body_id == body_id:
+                return self.expressions.get(name)
+        return None
 
     def people_positions(self) -> dict[str, Pose2D]:
         """Pose of every person now in the world."""

@@ -1,0 +1,1 @@
+"""Speech recognition: pocketsphinx with the household language model (docs/speech.md)."""

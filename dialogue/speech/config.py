@@ -1,0 +1,62 @@
+"""Schema of ``app/defaults/speech.yaml``: the recogniser's model files and thresholds, and
+how the household language model is estimated."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pydantic import Field
+
+from app.core.config_files import StrictModel, load_model
+from app.core.paths import REPO_ROOT
+
+
+class SpeechModelConfig(StrictModel):
+    """The model files the recogniser loads and pocketsphinx's language weight."""
+
+    language_model: Path
+    dictionary: Path
+    language_weight: float = Field(gt=0, le=50)
+
+    def path(self, name: Path) -> Path:
+        """``name`` from the repository root unless absolute."""
+        return name if name.is_absolute() else REPO_ROOT / name
+
+
+class SourceWeights(StrictModel):
+    """How much each source of lines counts in the language model."""
+
+    own: float = Field(gt=0)
+    conversation: float = Field(gt=0)
+
+
+class SpeechTrainConfig(StrictModel):
+    """How the household language model is estimated (dialogue/speech/training/)."""
+
+    order: int = Field(ge=1, le=5)
+    discount: float = Field(gt=0, lt=1)
+    min_city_population: int = Field(ge=0)
+    city_variants: int = Field(ge=0, le=100)
+    seed: int = Field(ge=0)
+    papaya_dir: Path | None
+    weights: SourceWeights
+    min_count: float = Field(ge=0)
+
+    def resolved(self, folder: Path | None) -> Path | None:
+        """``folder`` from the repository root unless absolute."""
+        return folder if folder is None or folder.is_absolute() else REPO_ROOT / folder
+
+
+class SpeechConfig(StrictModel):
+    """``app/defaults/speech.yaml``."""
+
+    model: SpeechModelConfig
+    min_confidence: float = Field(ge=0, le=1)
+    min_snr_db: float = Field(ge=-20, le=40)
+    min_level_db: float = Field(ge=0, le=100)
+    train: SpeechTrainConfig
+
+
+def load_speech_config(path: str | Path | None = None) -> SpeechConfig:
+    """The packaged speech settings, with the file at ``path`` merged over them."""
+    return load_model(SpeechConfig, "speech.yaml", path)

@@ -1,0 +1,101 @@
+"""The robot's speech recogniser: pocketsphinx on 16 kHz audio from its microphones.
+
+The acoustic model and pronunciation dictionary are the en-US ones inside the pocketsphinx
+wheel; the language model is the household one this project estimates from its own lines
+(dialogue/speech/training/, ``assets/models/speech/``), with its dictionary cut down to the
+model's words. Each sound is decoded as one utterance with the cepstral mean taken over the
+whole of it. A :class:`Transcript` carries the words, a confidence (the hypothesis's
+posterior probability per word, a geometric mean, so that long and short lines compare) and
+the speech's loudness over the noise, estimated from the signal alone. A sound whose speech
+is too faint (a voice from another room, or lost in the TV) gives no words.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from app.core.errors import UserError
+from app.sim.acoustics import RATE, REFERENCE_DB, resampled
+from dialogue.speech.config import SpeechConfig, load_speech_config
+
+FRAME = 320              # samples (20 ms) per frame of the loudness estimate
+QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
+
+
+class SpeechModelError(UserError):
+    """The recogniser's model files are missing or unreadable."""
+
+
+@dataclass(frozen=True)
+class Transcript:
+    """What the recogniser made of a sound: ``text`` (lower case, may be empty),
+    ``confidence`` in [0, 1], and ``snr_db``, the speech's loudness over the noise."""
+
+    text: str
+    confidence: float
+    snr_db: float
+
+    @property
+    def words(self) -> int:
+        """How many words were recognised."""
+        return len(self.text.split())
+
+
+def loudness(samples: np.ndarray) -> tuple[float, float]:
+    """The speech's level (dB SPL at the calibrated microphones) and how far it stands
+    above the noise (dB), from the loud and the quiet frames of a sound that holds both,
+    as a voice-activity detector judges them."""
+    x = np.asarray(samples, dtype=np.float64)
+    n = len(x) // FRAME
+    if n < 2:
+        return -math.inf, -math.inf
+    power = (x[:n * FRAME].reshape(n, FRAME) ** 2).mean(axis=1) + 1e-3
+    noise, loud = np.percentile(power, [QUIET, LOUD])
+    speech = max(loud - noise, 1e-6)
+    return (REFERENCE_DB + 10.0 * math.log10(speech / 32768.0 ** 2),
+            10.0 * math.log10(max(speech / noise, 1e-6)))
+
+
+class SpeechRecognizer:
+    """pocketsphinx with the household language model; ``transcribe`` one sound at a time."""
+
+    def __init__(self, cfg: SpeechConfig | None = None) -> None:
+        from pocketsphinx import Config, Decoder, get_model_path
+
+        self.cfg = cfg or load_speech_config()
+        m = self.cfg.model
+        lm, words = m.path(m.language_model), m.path(m.dictionary)
+        for path in (lm, words):
+            if not path.is_file():
+                raise SpeechModelError(f"{path}: no such model file (companion train speech "
+                                       "makes it)")
+        hmm = Path(get_model_path()) / "en-us" / "en-us"
+        # batch CMN: each sound normalised by its own cepstral mean, so that a transcript
+        # does not depend on the sounds heard before it
+        self.decoder = Decoder(Config(hmm=str(hmm), lm=str(lm), dict=str(words),
+                                      lw=m.language_weight, cmn="batch", loglevel="FATAL"))
+
+    def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
+        """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR."""
+        x = resampled(samples, rate)
+        level, snr = loudness(x)
+        if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
+            return Transcript("", 0.0, snr)
+        pcm = np.clip(np.round(x), -32768, 32767).astype(np.int16).tobytes()
+        d = self.decoder
+        d.start_utt()
+        d.process_raw(pcm, full_utt=True)
+        d.end_utt()
+        hyp = d.hyp()
+        text = hyp.hypstr.strip() if hyp is not None else ""
+        n = len(text.split())
+        confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
+        return Transcript(text, min(max(confidence, 0.0), 1.0), snr)
+
+    def understood(self, transcript: Transcript) -> bool:
+        """Whether ``transcript`` is sure enough to act on (else: ask again)."""
+        return transcript.words > 0 and transcript.confidence >= self.cfg.min_confidence

@@ -1,0 +1,1 @@
+"""The household language model's corpus and estimation, and the recogniser's evaluation."""

@@ -1,0 +1,72 @@
+"""Command line of speech recognition: ``companion train asr`` (the household language
+model) and ``companion eval asr`` (word error rate and routing by distance and noise).
+
+Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from app.core.cli_args import integer, seed
+from app.core.paths import MODELS_DIR
+
+WER_BAR = 0.15          # at 1 m in a quiet room
+ROUTING_BAR = 0.90      # at 1 and 3 m
+
+
+def add_train(sub: argparse._SubParsersAction) -> None:
+    """Register ``asr`` under ``companion train``."""
+    p = sub.add_parser("asr", help="estimate the household language model of the speech "
+                                   "recogniser from the project's own lines")
+    p.add_argument("--config", type=Path, default=None, help="YAML merged over speech.yaml")
+    p.add_argument("--out", type=Path, default=MODELS_DIR / "speech",
+                   help="folder for household.lm.bin, household.dict and household.json")
+    p.set_defaults(func=run_train)
+
+
+def add_eval(sub: argparse._SubParsersAction) -> None:
+    """Register ``asr`` under ``companion eval``."""
+    p = sub.add_parser("asr", help="word error rate and routing accuracy of the speech "
+                                   "recogniser by distance and noise")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--limit", type=integer(1), default=None,
+                   help="only the first N lines of each held-out file (a quick look)")
+    p.add_argument("--seed", type=seed(), default=0, help="where the speakers stand")
+    p.set_defaults(func=run_eval)
+
+
+def run_train(args: argparse.Namespace) -> int:
+    """``companion train asr``."""
+    from dialogue.speech.config import load_speech_config
+    from dialogue.speech.training.train import train_language_model
+
+    figures = train_language_model(load_speech_config(args.config), args.out)
+    print(json.dumps(figures, indent=2))
+    return 0
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    """``companion eval asr``: the table, and whether it meets the bars."""
+    from dialogue.speech.training.evaluate import evaluate_asr
+
+    result = evaluate_asr(args.limit, args.seed)
+    if args.json:
+        print(json.dumps(result))
+        return 0
+    print(f"{result['lines']} held-out lines, voices {', '.join(result['voices'])}; "
+          f"recognition {result['real_time_factor']:.2f} x real time")
+    print(f"{'noise':<6} {'distance':>8} {'WER':>6} {'understood':>10} {'routing':>8} "
+          f"{'on text':>8}")
+    for r in result["rows"]:
+        routing = f"{r['routing']:.3f}" if r["routing"] is not None else "-"
+        text = f"{r['routing_text']:.3f}" if r["routing_text"] is not None else "-"
+        print(f"{r['noise']:<6} {r['distance_m']:>7g}m {r['wer']:>6.3f} {r['understood']:>10.3f}"
+              f" {routing:>8} {text:>8}")
+    quiet = next(r for r in result["rows"] if r["noise"] == "quiet" and r["distance_m"] == 1)
+    near = [r["routing"] for r in result["rows"] if r["distance_m"] <= 3]
+    print(f"bars: WER at 1 m, quiet {quiet['wer']:.3f} (bar <= {WER_BAR}); routing at 1-3 m "
+          f"at least {min(near):.3f} (bar >= {ROUTING_BAR})")
+    return 0

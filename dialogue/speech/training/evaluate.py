@@ -1,0 +1,103 @@
+"""``companion eval asr``: the recogniser on held-out lines said in a simulated room.
+
+Each held-out line (the intent router's and the feedback model's held-out files, never in
+the language model's corpus) is spoken by one of the people's voices and carried to the
+robot's microphones by the room acoustics of a household run (app/sim/acoustics.py), from
+1, 3 and 5 m, in a quiet room and with the TV on. The report gives the word error rate, the
+share of lines the robot would act on (confidence at or above the threshold) and, for the
+intent lines, the router's accuracy on the transcript against its accuracy on the text.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import jiwer
+import numpy as np
+
+from app.sim.acoustics import RATE, Acoustics
+from app.sim.layout import Room, RoomNoise
+from app.sim.robot import load_robot_config
+from app.sim.soundscape import noise_loops
+from app.sim.voices import PEOPLE_VOICES, synthesise
+from dialogue.intent import IntentClassifier
+from dialogue.speech.recognizer import SpeechRecognizer
+from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
+from dialogue.speech.words import spoken_words
+
+DISTANCES_M = (1.0, 3.0, 5.0)
+NOISES = ("quiet", "tv")
+VOICES = 4
+ROBOT = (4.0, 1.0)                    # in an 8 x 7 m living room; the TV on the far wall
+TV = (4.0, 6.8)
+TV_DB = 60.0                          # the TV one metre in front of it: a normal volume
+
+
+@dataclass
+class Condition:
+    """The lines of one distance and noise: references, transcripts, routing."""
+
+    distance: float
+    noise: str
+    refs: list[str]
+    hyps: list[str]
+    understood: list[bool]
+    routed: list[bool]
+    routed_text: list[bool]
+
+    def row(self) -> dict[str, object]:
+        """The condition's figures."""
+        n_routed = len(self.routed)
+        return {"distance_m": self.distance, "noise": self.noise, "lines": len(self.refs),
+                "wer": round(jiwer.wer(self.refs, self.hyps), 4),
+                "understood": round(float(np.mean(self.understood)), 4),
+                "routing": round(sum(self.routed) / n_routed, 4) if n_routed else None,
+                "routing_text": round(sum(self.routed_text) / n_routed, 4) if n_routed
+                else None}
+
+
+def room(noise: str) -> Acoustics:
+    """The evaluation's living room, quiet or with the TV on."""
+    source = RoomNoise(source="tv", source_db=TV_DB) if noise == "tv" else RoomNoise()
+    lounge = Room(name="lounge", x=(0.0, 8.0), y=(0.0, 7.0), noise=source)
+    return Acoustics(load_robot_config().acoustics, [lounge], [], {"tv": TV})
+
+
+def evaluate_asr(limit: int | None = None, seed: int = 0,
+                 progress: Callable[[str], None] | None = None) -> dict[str, object]:
+    """The table of :class:`Condition` rows over the held-out lines (the first ``limit``
+    of each file when given), with the recogniser's speed."""
+    lines = [(label if name.startswith("intent") else None, text)
+             for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
+    recogniser, router = SpeechRecognizer(), IntentClassifier.default()
+    rng = np.random.default_rng(seed)
+    loops = noise_loops(seed)
+    voices = [synthesise(text, PEOPLE_VOICES[i % VOICES]) for i, (_, text) in enumerate(lines)]
+    rows, decode_s, audio_s = [], 0.0, 0.0
+    for noise in NOISES:
+        acoustics = room(noise)
+        for distance in DISTANCES_M:
+            c = Condition(distance, noise, [], [], [], [], [])
+            for (label, text), (samples, rate) in zip(lines, voices, strict=True):
+                angle = math.radians(rng.uniform(40, 140))
+                speaker = (ROBOT[0] + distance * math.cos(angle),
+                           ROBOT[1] + distance * math.sin(angle))
+                audio = acoustics.at_microphones(samples, rate, speaker, ROBOT, loops, rng)
+                t0 = time.perf_counter()
+                heard = recogniser.transcribe(audio, RATE)
+                decode_s += time.perf_counter() - t0
+                audio_s += len(audio) / RATE
+                c.refs.append(" ".join(spoken_words(text)))
+                c.hyps.append(heard.text)
+                c.understood.append(recogniser.understood(heard))
+                if label is not None:
+                    c.routed.append(router.classify(heard.text).label == label)
+                    c.routed_text.append(router.classify(text).label == label)
+            rows.append(c.row())
+            if progress is not None:
+                progress(f"{noise} {distance:g} m: {rows[-1]}")
+    return {"rows": rows, "voices": [v.espeak_name for v in PEOPLE_VOICES[:VOICES]],
+            "lines": len(lines), "real_time_factor": round(decode_s / audio_s, 4)}

@@ -1,0 +1,85 @@
+"""The speech recogniser: a known sentence said near the robot, the confidence that decides
+whether the robot asks again, and ``companion chat --audio``."""
+
+from __future__ import annotations
+
+import json
+import wave
+
+import jiwer
+import numpy as np
+import pytest
+
+from app.cli import main
+from app.sim.acoustics import RATE, Acoustics
+from app.sim.layout import Room
+from app.sim.robot import load_robot_config
+from app.sim.soundscape import noise_loops
+from app.sim.voices import PEOPLE_VOICES, synthesise
+from dialogue.manager import SAY_AGAIN, DialogueManager
+from dialogue.speech.recognizer import SpeechRecognizer, loudness
+from dialogue.speech.words import spoken_words
+
+
+def recorded(text: str, distance: float = 1.0) -> np.ndarray:
+    room = Acoustics(load_robot_config().acoustics, [Room(name="r", x=(0.0, 8.0), y=(0.0, 7.0))],
+                     [], {})
+    samples, rate = synthesise(text, PEOPLE_VOICES[0])
+    return room.at_microphones(samples, rate, (4.0, 1.0 + distance), (4.0, 1.0), noise_loops(0),
+                               np.random.default_rng(0))
+
+
+@pytest.fixture(scope="module")
+def recogniser() -> SpeechRecognizer:
+    return SpeechRecognizer()
+
+
+@pytest.mark.parametrize("text", ["Can you sing a song for me?", "Where is the kitchen?"])
+def test_a_known_sentence_said_a_metre_away_has_at_most_one_word_wrong(recogniser, text):
+    heard = recogniser.transcribe(recorded(text), RATE)
+    words = jiwer.process_words(" ".join(spoken_words(text)), heard.text)
+    assert words.substitutions + words.deletions + words.insertions <= 1, heard.text
+    assert recogniser.understood(heard)
+
+
+def test_noise_alone_gives_no_words(recogniser):
+    noise = noise_loops(0)["steady"][: 2 * RATE] * 30.0
+    assert loudness(noise)[1] < recogniser.cfg.min_snr_db
+    assert recogniser.transcribe(noise, RATE).text == ""
+
+
+def test_an_unsure_transcript_is_asked_for_again_once():
+    manager = DialogueManager()
+    manager.min_confidence = 0.5
+    first = manager.respond("what tim is it", confidence=0.2)
+    assert first.text == SAY_AGAIN and first.route == "say_again"
+    assert manager.respond("what tim is", confidence=0.1).route == "not_understood"
+    assert manager.respond("what time is it", confidence=0.9).route == "time"
+
+
+def write_wav(path, samples: np.ndarray, rate: int, width: int = 2) -> None:
+    with wave.open(str(path), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(width)
+        w.setframerate(rate)
+        w.writeframes(np.clip(np.round(samples), -32768, 32767).astype("<i2").tobytes()
+                      if width == 2 else bytes(len(samples)))
+
+
+def test_chat_audio_transcribes_a_wav_file_and_answers_it(tmp_path, capsys):
+    path = tmp_path / "line.wav"
+    write_wav(path, recorded("Please take a photo of us."), RATE)
+    assert main(["chat", "--audio", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "photo" in out["heard"] and out["route"] == "photo"
+
+
+@pytest.mark.parametrize("content", ["not a wav", "8-bit"])
+def test_chat_audio_refuses_a_file_it_cannot_read_with_exit_2(tmp_path, capsys, content):
+    path = tmp_path / "bad.wav"
+    if content == "8-bit":
+        write_wav(path, np.zeros(1600), RATE, width=1)
+    else:
+        path.write_text(content)
+    assert main(["chat", "--audio", str(path)]) == 2
+    assert "bad.wav" in capsys.readouterr().err
