@@ -6,9 +6,18 @@ STAMP  := $(VENV)/.installed
 OUT    ?= runs/demo
 WORLD  ?= worlds/living_room.yaml
 
-.PHONY: setup demo test lint bench snapshots clean
+.PHONY: setup browser demo test lint bench snapshots clean
 
-setup: $(STAMP)
+setup: $(STAMP) browser
+
+# The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
+# its driver: Debian's chromium and chromium-driver, installed with apt-get (with sudo when
+# not root) unless both are already on the PATH.
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+browser:
+	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || { \
+	  $(SUDO) apt-get update -qq && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver; }
 
 # torch and torchvision come as a matching pair from the package registry: `--isolated`
 # keeps pip away from locally configured wheel folders that hold an unmatched torch build.
@@ -26,7 +35,7 @@ demo: $(STAMP)
 	$(BIN)/companion run $(WORLD) --out $(OUT) --overwrite
 
 # lint-imports checks the import contracts of pyproject.toml (the layers of docs/architecture.md).
-test: $(STAMP)
+test: $(STAMP) browser
 	$(BIN)/ruff check .
 	$(BIN)/lint-imports
 	$(BIN)/pytest
