@@ -11,13 +11,15 @@ WORLD  ?= worlds/living_room.yaml
 setup: $(STAMP) browser
 
 # The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
-# its driver: Debian's chromium and chromium-driver, installed with apt-get (with sudo when
-# not root) unless both are already on the PATH.
+# its driver: Debian's chromium and chromium-driver (and a colour emoji font for the pages'
+# icons in screenshots), installed with apt-get (with sudo when not root) unless both
+# programs are already on the PATH.
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 browser:
 	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || { \
 	  $(SUDO) apt-get update -qq && \
-	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver; }
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver \
+	    fonts-noto-color-emoji; }
 
 # torch and torchvision come as a matching pair from the package registry: `--isolated`
 # keeps pip away from locally configured wheel folders that hold an unmatched torch build.
