@@ -24,11 +24,16 @@ function show(reply) {
 }
 
 async function say(text, mode) {
+  const t0 = performance.now();
   document.getElementById("you").textContent = "You: " + text;
   document.getElementById("reply-text").textContent = "…";
   try {
     const reply = await post("/api/say", {text, mode});
-    if (!reply.pending) show(reply);
+    if (!reply.pending) {
+      show(reply);
+      // from the press to the reply and its card on screen (ms; read by bench/bench_tablet.py)
+      document.body.dataset.latency = String(performance.now() - t0);
+    }
   } catch (e) {
     document.getElementById("reply-text").textContent = "Sorry: " + e.message;
   }

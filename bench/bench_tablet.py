@@ -1,0 +1,240 @@
+"""The tablet's bars (docs/tablet.md, docs/BENCHMARKS.md "Tablet").
+
+    python bench/bench_tablet.py buttons --rounds 20
+        every conversation button pressed in headless Chromium against `companion tablet`'s
+        app; the latency from the press to the reply and its card on screen, measured by the
+        page itself (p50/p95 per button and over all presses)
+    python bench/bench_tablet.py run --out runs/bench-tablet/plain
+    python bench/bench_tablet.py run --tablet --clients 1 --out runs/bench-tablet/tablet
+    python bench/bench_tablet.py run --tablet --clients 50 --out runs/bench-tablet/load
+        `companion run worlds/nursing_home.yaml --duration 600 --seed 3` (as a subprocess),
+        without or with --tablet and N live-view clients (Server-Sent Events on loopback,
+        from this process) for the whole run: the run's wall time, its ticks (timeline rows,
+        events by kind: the same as without the tablet means none was dropped or changed),
+        its resident memory sampled every wall second, and per client the snapshots
+        received per wall second and the longest gap between two
+    python bench/bench_tablet.py compare runs/bench-tablet/plain runs/bench-tablet/tablet
+        the wall-time growth and whether the two runs' events match
+
+Each `run` writes `bench.json` beside the run folder's own files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import collections
+import itertools
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+PORT = 8799
+
+
+def percentile(values: list[float], q: float) -> float:
+    """The ``q`` quantile (nearest rank) of ``values``."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, round(q * len(ordered) + 0.5) - 1))]
+
+
+def buttons(rounds: int) -> dict[str, Any]:
+    """Press every button ``rounds`` times in headless Chromium; latencies in ms."""
+    import shutil
+
+    from selenium import webdriver
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    from app.tablet.chat_link import ChatTablet
+    from app.tablet.config import KINDS, load_tablet_config
+    from app.tablet.serve import TabletServer
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = shutil.which("chromium")
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
+        options.add_argument(arg)
+    driver = webdriver.Chrome(options=options,
+                              service=webdriver.ChromeService(shutil.which("chromedriver")))
+    latencies: dict[str, list[float]] = collections.defaultdict(list)
+    with tempfile.TemporaryDirectory() as tmp:
+        tablet = ChatTablet.from_scenario(ROOT / "worlds" / "living_room.yaml",
+                                          load_tablet_config(), Path(tmp))
+        with TabletServer(tablet, "127.0.0.1", 0) as server:
+            driver.get(f"http://127.0.0.1:{server.port}/")
+            body = driver.find_element(By.TAG_NAME, "body")
+            WebDriverWait(driver, 30).until(lambda _: body.get_attribute("data-ready"))
+            for _ in range(rounds):
+                for kind in KINDS:
+                    before = body.get_attribute("data-seq") or "0"
+                    driver.find_element(By.ID, f"btn-{kind}").click()
+                    WebDriverWait(driver, 30, poll_frequency=0.01).until(
+                        lambda _, b=before: (body.get_attribute("data-seq") or "0") != b
+                        and body.get_attribute("data-latency"))
+                    latencies[kind].append(float(body.get_attribute("data-latency")))
+                    driver.execute_script("delete document.body.dataset.latency")
+        tablet.close()
+    driver.quit()
+    every = [v for vs in latencies.values() for v in vs]
+    return {"rounds": rounds, "presses": len(every),
+            "p50_ms": round(percentile(every, 0.5), 1), "p95_ms": round(percentile(every, 0.95), 1),
+            "max_ms": round(max(every), 1),
+            "per_button": {k: {"p50_ms": round(percentile(v, 0.5), 1),
+                               "p95_ms": round(percentile(v, 0.95), 1)}
+                           for k, v in latencies.items()}}
+
+
+async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> None:
+    import httpx
+
+    arrivals: list[float] = []
+    stats["arrivals"] = arrivals
+    async with httpx.AsyncClient(timeout=None) as client:
+        while not done.is_set():
+            try:
+                async with client.stream("GET", url) as response:
+                    async for line in response.aiter_lines():
+                        if line.startswith("data:"):
+                            arrivals.append(time.monotonic())
+                        if done.is_set():
+                            return
+            except (httpx.HTTPError, OSError):
+                await asyncio.sleep(0.2)   # the server is not up yet, or has gone
+
+
+def _watch(url: str, n: int, done: threading.Event) -> list[dict[str, Any]]:
+    stats = [{} for _ in range(n)]
+
+    async def main() -> None:
+        await asyncio.gather(*(_client(url, s, done) for s in stats))
+
+    asyncio.run(main())
+    return stats
+
+
+def _rss_mb(pid: int) -> float | None:
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        return None
+    return None
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    """One `companion run`, with the tablet and live-view clients as asked."""
+    cmd = [sys.executable, "-m", "app.cli", "run", args.world, "--duration", str(args.duration),
+           "--seed", str(args.seed), "--out", str(args.out), "--overwrite", "--no-progress",
+           "--json"]
+    if args.tablet:
+        cmd += ["--tablet", "--port", str(PORT)]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env,
+                            text=True)
+    done = threading.Event()
+    result: dict[str, Any] = {}
+    watcher = None
+    if args.clients:
+        def watch() -> None:
+            result["clients"] = _watch(f"http://127.0.0.1:{PORT}/api/stream", args.clients, done)
+        watcher = threading.Thread(target=watch)
+        watcher.start()
+    rss = []
+    while proc.poll() is None:
+        value = _rss_mb(proc.pid)
+        if value is not None:
+            rss.append(round(value, 1))
+        time.sleep(1.0)
+    done.set()
+    metrics = json.loads(proc.stdout.read().strip().splitlines()[-1])
+    if watcher is not None:
+        watcher.join(timeout=30)
+    out = {"command": " ".join(cmd[2:]), "wall_s": metrics["wall_s"],
+           "duration_s": metrics["duration_s"], "peak_rss_mb": metrics["peak_rss_mb"],
+           "rss_mb_first_10s_max": max(rss[:10], default=None),
+           "rss_mb_last_10s_max": max(rss[-10:], default=None), "rss_samples": len(rss),
+           "timeline_rows": sum(1 for _ in (args.out / "timeline.csv").open()) - 1,
+           "events": _event_counts(args.out)}
+    if args.clients:
+        out["clients"] = _client_summary(result.get("clients", []))
+    (args.out / "bench.json").write_text(json.dumps(out, indent=1))
+    return out
+
+
+def _event_counts(folder: Path) -> dict[str, int]:
+    counts = collections.Counter(json.loads(line)["kind"] for line in
+                                 (folder / "events.jsonl").read_text().splitlines())
+    return dict(sorted(counts.items()))
+
+
+def _client_summary(stats: list[dict[str, Any]]) -> dict[str, Any]:
+    rates, gaps, counts = [], [], []
+    for s in stats:
+        a = s.get("arrivals", [])
+        counts.append(len(a))
+        if len(a) >= 2:
+            rates.append((len(a) - 1) / (a[-1] - a[0]))
+            gaps.append(max(b - x for x, b in itertools.pairwise(a)))
+    return {"n": len(stats), "all_received": all(c > 0 for c in counts),
+            "snapshots_min": min(counts, default=0),
+            "rate_per_s_min": round(min(rates), 2) if rates else 0.0,
+            "rate_per_s_median": round(statistics.median(rates), 2) if rates else 0.0,
+            "max_gap_s": round(max(gaps), 2) if gaps else None}
+
+
+def _actions(folder: Path) -> list[tuple[float, str]]:
+    return [(e["t"], e["action"]) for e in map(json.loads, (folder / "events.jsonl")
+                                                .read_text().splitlines())
+            if e["kind"] == "action"]
+
+
+def compare(base: Path, other: Path) -> dict[str, Any]:
+    """Wall-time growth of ``other`` over ``base`` and whether their runs match."""
+    a = json.loads((base / "bench.json").read_text())
+    b = json.loads((other / "bench.json").read_text())
+    ignore = {"tablet_line", "tablet_feedback"}
+    same = ({k: v for k, v in a["events"].items() if k not in ignore}
+            == {k: v for k, v in b["events"].items() if k not in ignore})
+    return {"wall_s": [a["wall_s"], b["wall_s"]],
+            "growth_pct": round(100 * (b["wall_s"] / a["wall_s"] - 1), 1),
+            "same_ticks": a["timeline_rows"] == b["timeline_rows"],
+            "same_events": same, "same_actions": _actions(base) == _actions(other)}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="what", required=True)
+    b = sub.add_parser("buttons")
+    b.add_argument("--rounds", type=int, default=20)
+    r = sub.add_parser("run")
+    r.add_argument("--world", default="worlds/nursing_home.yaml")
+    r.add_argument("--duration", type=float, default=600)
+    r.add_argument("--seed", type=int, default=3)
+    r.add_argument("--tablet", action="store_true")
+    r.add_argument("--clients", type=int, default=0)
+    r.add_argument("--out", type=Path, required=True)
+    c = sub.add_parser("compare")
+    c.add_argument("base", type=Path)
+    c.add_argument("other", type=Path)
+    args = parser.parse_args()
+    if args.what == "buttons":
+        result = buttons(args.rounds)
+    elif args.what == "run":
+        result = run(args)
+    else:
+        result = compare(args.base, args.other)
+    print(json.dumps(result, indent=1))
+
+
+if __name__ == "__main__":
+    main()
