@@ -18,6 +18,7 @@ from typing import Any
 
 from app.core.cli_args import integer
 from app.core.errors import UserError
+from app.core.signals import Terminated
 
 
 def add_server_options(p: argparse.ArgumentParser) -> None:
@@ -67,7 +68,9 @@ def serve_until_stopped(backend: Any, args: argparse.Namespace, what: str) -> in
         try:
             while True:
                 time.sleep(0.5)
-        except KeyboardInterrupt:
+        except Terminated:   # SIGTERM: exit 143, as every command does
+            raise
+        except KeyboardInterrupt:   # Ctrl-C is how a person closes the server
             print("stopped", flush=True)
     return 0
 
