@@ -11,7 +11,9 @@
         without or with --tablet and N live-view clients (Server-Sent Events on loopback,
         from this process) for the whole run: the run's wall time, its ticks (timeline rows,
         events by kind: the same as without the tablet means none was dropped or changed),
-        its resident memory sampled every wall second, and per client the snapshots
+        its CPU time (a shared machine's load moves the wall time; the CPU time counts
+        the server thread too), its resident memory sampled every wall second, and per
+        client the snapshots
         received per wall second and the longest gap between two
     python bench/bench_tablet.py compare runs/bench-tablet/plain runs/bench-tablet/tablet
         the wall-time growth and whether the two runs' events match
@@ -27,6 +29,7 @@ import collections
 import itertools
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -139,6 +142,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.tablet:
         cmd += ["--tablet", "--port", str(PORT)]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    cpu0 = _children_cpu_s()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env,
                             text=True)
     done = threading.Event()
@@ -156,10 +160,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             rss.append(round(value, 1))
         time.sleep(1.0)
     done.set()
+    cpu_s = round(_children_cpu_s() - cpu0, 1)   # the run's own CPU time, helper included
     metrics = json.loads(proc.stdout.read().strip().splitlines()[-1])
     if watcher is not None:
         watcher.join(timeout=30)
-    out = {"command": " ".join(cmd[2:]), "wall_s": metrics["wall_s"],
+    out = {"command": " ".join(cmd[2:]), "wall_s": metrics["wall_s"], "cpu_s": cpu_s,
            "duration_s": metrics["duration_s"], "peak_rss_mb": metrics["peak_rss_mb"],
            "rss_mb_first_10s_max": max(rss[:10], default=None),
            "rss_mb_last_10s_max": max(rss[-10:], default=None), "rss_samples": len(rss),
@@ -169,6 +174,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         out["clients"] = _client_summary(result.get("clients", []))
     (args.out / "bench.json").write_text(json.dumps(out, indent=1))
     return out
+
+
+def _children_cpu_s() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def _event_counts(folder: Path) -> dict[str, int]:
@@ -207,6 +217,8 @@ def compare(base: Path, other: Path) -> dict[str, Any]:
             == {k: v for k, v in b["events"].items() if k not in ignore})
     return {"wall_s": [a["wall_s"], b["wall_s"]],
             "growth_pct": round(100 * (b["wall_s"] / a["wall_s"] - 1), 1),
+            "cpu_s": [a["cpu_s"], b["cpu_s"]],
+            "cpu_growth_pct": round(100 * (b["cpu_s"] / a["cpu_s"] - 1), 1),
             "same_ticks": a["timeline_rows"] == b["timeline_rows"],
             "same_events": same, "same_actions": _actions(base) == _actions(other)}
 

@@ -75,5 +75,5 @@ def tap(manager: DialogueManager, log: ReplyLog, files: FileRegistry,
 
 
 def said_as(manager: DialogueManager, text: str) -> str:
-    """``text`` as the manager will log it (cleaned), to match a reply to its line."""
+    """``text`` as ``manager`` will log it (cleaned), to match a reply to its line."""
     return clean_input(text, manager.max_chars)

@@ -23,7 +23,8 @@ from app.sim.world import FeedbackEvent, SayEvent
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import MindView, SnapshotSlot
-from app.tablet.replies import ReplyLog, said_as, tap
+from app.tablet.replies import ReplyLog, tap
+from dialogue.manager import clean_input
 
 
 class BusyError(Exception):
@@ -69,11 +70,9 @@ class RunTablet:
     def say(self, text: str, mode: str) -> dict[str, Any]:
         """Say ``text`` to the robot in ``mode``; the reply when it comes within the reply
         timeout, else ``{"pending": True}`` (the page picks it up from the reply log)."""
-        if self._run is None or self._run.ctx.dialogue is None:
-            return {"pending": False, "error": "the robot has no dialogue"}
         after = self.replies.seq
-        self._put(Request(text=text, mode=mode))
-        said = said_as(self._run.ctx.dialogue, text)
+        self._put(Request(text=text, mode=mode))   # before the first tick: heard at it
+        said = clean_input(text)
         reply = self.replies.wait_for(said, after, self.config.server.reply_timeout_s)
         return reply if reply is not None else {"pending": True, "input": said}
 
@@ -104,7 +103,7 @@ class RunTablet:
                 return
             if request.value:
                 self._feedback(request.value)
-            else:
+            elif self._run.ctx.dialogue is not None:   # a robot without speech hears nothing
                 self._hear(request)
 
     def _hear(self, request: Request) -> None:
@@ -115,7 +114,7 @@ class RunTablet:
         line = sim.microphones.hear(SayEvent(sim.t, person, request.text, "robot"), (x, y),
                                     in_front)
         ctx.dialogue.context.mode = request.mode
-        self._mode_line = said_as(ctx.dialogue, request.text) if request.mode != "auto" else None
+        self._mode_line = clean_input(request.text) if request.mode != "auto" else None
         ctx.events.emit("tablet_line", line=line.line, text=request.text, mode=request.mode)
         ctx.inbox.append(line)
 
