@@ -188,18 +188,22 @@ def _event_counts(folder: Path) -> dict[str, int]:
 
 
 def _client_summary(stats: list[dict[str, Any]]) -> dict[str, Any]:
-    rates, gaps, counts = [], [], []
+    rates, gaps, counts, twice = [], [], [], []
     for s in stats:
         a = s.get("arrivals", [])
         counts.append(len(a))
         if len(a) >= 2:
             rates.append((len(a) - 1) / (a[-1] - a[0]))
             gaps.append(max(b - x for x, b in itertools.pairwise(a)))
+            per_second = collections.Counter(int(t - a[0]) for t in a)
+            seconds = range(int(a[-1] - a[0]))   # whole wall seconds of the stream
+            twice.append(sum(per_second[k] >= 2 for k in seconds) / max(len(seconds), 1))
     return {"n": len(stats), "all_received": all(c > 0 for c in counts),
             "snapshots_min": min(counts, default=0),
             "rate_per_s_min": round(min(rates), 2) if rates else 0.0,
             "rate_per_s_median": round(statistics.median(rates), 2) if rates else 0.0,
-            "max_gap_s": round(max(gaps), 2) if gaps else None}
+            "max_gap_s": round(max(gaps), 2) if gaps else None,
+            "seconds_with_2_plus_pct_min": round(100 * min(twice), 1) if twice else 0.0}
 
 
 def _actions(folder: Path) -> list[tuple[float, str]]:

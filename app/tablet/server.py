@@ -183,7 +183,7 @@ def create_app(backend: Any, *, token: str | None = None, loopback: bool = True,
 
     async def stream(request: Request) -> Response:
         async def events() -> Any:
-            last, quiet = -1, 0.0
+            last, quiet = 0, 0.0   # snapshot 0 is the empty one before the first
             while stopping is None or not stopping.is_set():
                 seq, data = backend.snapshot()
                 if seq != last:
