@@ -13,8 +13,10 @@
         events by kind: the same as without the tablet means none was dropped or changed),
         its CPU time (a shared machine's load moves the wall time; the CPU time counts
         the server thread too), its resident memory sampled every wall second, and per
-        client the snapshots
-        received per wall second and the longest gap between two
+        client the snapshots received per wall second (and the share of whole wall seconds
+        with two or more), the longest gap between two, the delay from a snapshot's
+        building in the run to its arrival, and the longest gap between two snapshots
+        built (a tick that took that long)
     python bench/bench_tablet.py compare runs/bench-tablet/plain runs/bench-tablet/tablet
         the wall-time growth and whether the two runs' events match
 
@@ -29,6 +31,7 @@ import collections
 import itertools
 import json
 import os
+import re
 import resource
 import statistics
 import subprocess
@@ -42,6 +45,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 PORT = 8799
+WALL = re.compile(r'data: \{"wall":([0-9.]+)')
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -100,7 +104,9 @@ async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> Non
     import httpx
 
     arrivals: list[float] = []
-    stats["arrivals"] = arrivals
+    delays: list[float] = []   # wall s from a snapshot's building to its arrival here
+    made: list[float] = []     # when each snapshot was built (the run's wall clock)
+    stats.update(arrivals=arrivals, delays=delays, made=made)
     async with httpx.AsyncClient(timeout=None) as client:
         while not done.is_set():
             try:
@@ -108,6 +114,10 @@ async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> Non
                     async for line in response.aiter_lines():
                         if line.startswith("data:"):
                             arrivals.append(time.monotonic())
+                            built = WALL.match(line)
+                            if built:
+                                delays.append(time.time() - float(built[1]))
+                                made.append(float(built[1]))
                         if done.is_set():
                             return
             except (httpx.HTTPError, OSError):
@@ -198,7 +208,13 @@ def _client_summary(stats: list[dict[str, Any]]) -> dict[str, Any]:
             per_second = collections.Counter(int(t - a[0]) for t in a)
             seconds = range(int(a[-1] - a[0]))   # whole wall seconds of the stream
             twice.append(sum(per_second[k] >= 2 for k in seconds) / max(len(seconds), 1))
+    delays = [d for s in stats for d in s.get("delays", [])]
+    made = stats[0].get("made", []) if stats else []
     return {"n": len(stats), "all_received": all(c > 0 for c in counts),
+            "delivery_delay_s_p50": round(percentile(delays, 0.5), 3) if delays else None,
+            "delivery_delay_s_p99": round(percentile(delays, 0.99), 3) if delays else None,
+            "built_max_gap_s": round(max(b - a for a, b in itertools.pairwise(made)), 2)
+            if len(made) > 1 else None,
             "snapshots_min": min(counts, default=0),
             "rate_per_s_min": round(min(rates), 2) if rates else 0.0,
             "rate_per_s_median": round(statistics.median(rates), 2) if rates else 0.0,

@@ -118,6 +118,7 @@ class MindView:
             self._frame_t = frame_t
         heard = store.get("/heard") or []
         return {
+            "wall": round(time.time(), 3),   # when it was built (the bench's delivery delay)
             "t": round(self.ctx.now, 2),
             "mood": {"value": round(float(mood.get("value", 0.0)), 4),
                      "positive": bool(mood.get("positive", True))},
