@@ -17,6 +17,8 @@
         with two or more), the longest gap between two, the delay from a snapshot's
         building in the run to its arrival, and the longest gap between two snapshots
         built (a tick that took that long)
+    python bench/bench_tablet.py ticks --out runs/bench-tablet/ticks
+        the same run without the tablet, in this process, each tick timed: its longest ticks
     python bench/bench_tablet.py compare runs/bench-tablet/plain runs/bench-tablet/tablet
         the wall-time growth and whether the two runs' events match
 
@@ -45,7 +47,7 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 PORT = 8799
-WALL = re.compile(r'data: \{"wall":([0-9.]+)')
+WALL = re.compile(r'data: \{"wall":([0-9.]+),"t":([0-9.]+)')
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -105,7 +107,7 @@ async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> Non
 
     arrivals: list[float] = []
     delays: list[float] = []   # wall s from a snapshot's building to its arrival here
-    made: list[float] = []     # when each snapshot was built (the run's wall clock)
+    made: list[tuple[float, float]] = []   # each snapshot's building: (wall, simulated) s
     stats.update(arrivals=arrivals, delays=delays, made=made)
     async with httpx.AsyncClient(timeout=None) as client:
         while not done.is_set():
@@ -117,7 +119,7 @@ async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> Non
                             built = WALL.match(line)
                             if built:
                                 delays.append(time.time() - float(built[1]))
-                                made.append(float(built[1]))
+                                made.append((float(built[1]), float(built[2])))
                         if done.is_set():
                             return
             except (httpx.HTTPError, OSError):
@@ -186,6 +188,24 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def ticks(args: argparse.Namespace) -> dict[str, Any]:
+    """The run of ``run`` without the tablet, in this process, each tick timed: the longest
+    ticks (wall s and simulated t), to tell the run's own long ticks from the tablet's."""
+    from app.run import build_run, prepare_scenario
+
+    scenario = prepare_scenario(Path(args.world), duration=args.duration, seed=args.seed)
+    run = build_run(scenario, args.out)
+    times = []
+    with run.sim:
+        for _ in range(round(scenario.duration / scenario.step)):
+            t0 = time.perf_counter()
+            run.tree.tick()
+            times.append((time.perf_counter() - t0, run.sim.t))
+    longest = sorted(times, reverse=True)[:5]
+    return {"ticks": len(times), "longest": [[round(w, 2), t] for w, t in longest],
+            "p99_ms": round(1000 * percentile([w for w, _ in times], 0.99), 1)}
+
+
 def _children_cpu_s() -> float:
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
     return usage.ru_utime + usage.ru_stime
@@ -213,8 +233,9 @@ def _client_summary(stats: list[dict[str, Any]]) -> dict[str, Any]:
     return {"n": len(stats), "all_received": all(c > 0 for c in counts),
             "delivery_delay_s_p50": round(percentile(delays, 0.5), 3) if delays else None,
             "delivery_delay_s_p99": round(percentile(delays, 0.99), 3) if delays else None,
-            "built_max_gap_s": round(max(b - a for a, b in itertools.pairwise(made)), 2)
-            if len(made) > 1 else None,
+            "built_longest_gaps": [  # (wall s, simulated t before, after): the longest ticks
+                [round(b[0] - a[0], 2), a[1], b[1]] for a, b in
+                sorted(itertools.pairwise(made), key=lambda p: p[0][0] - p[1][0])[:3]],
             "snapshots_min": min(counts, default=0),
             "rate_per_s_min": round(min(rates), 2) if rates else 0.0,
             "rate_per_s_median": round(statistics.median(rates), 2) if rates else 0.0,
@@ -255,6 +276,11 @@ def main() -> None:
     r.add_argument("--tablet", action="store_true")
     r.add_argument("--clients", type=int, default=0)
     r.add_argument("--out", type=Path, required=True)
+    t = sub.add_parser("ticks")
+    t.add_argument("--world", default="worlds/nursing_home.yaml")
+    t.add_argument("--duration", type=float, default=600)
+    t.add_argument("--seed", type=int, default=3)
+    t.add_argument("--out", type=Path, required=True)
     c = sub.add_parser("compare")
     c.add_argument("base", type=Path)
     c.add_argument("other", type=Path)
@@ -263,6 +289,8 @@ def main() -> None:
         result = buttons(args.rounds)
     elif args.what == "run":
         result = run(args)
+    elif args.what == "ticks":
+        result = ticks(args)
     else:
         result = compare(args.base, args.other)
     print(json.dumps(result, indent=1))

@@ -74,6 +74,7 @@ def test_a_tablet_line_is_heard_and_answered(played):
     if not got["say"].get("pending"):
         assert got["say"]["seq"] == reply["seq"]
     assert tablet.replies.after(0)[-1]["t"] <= 40.0   # sim time of the reply
+    assert typed["mode"] == "time" and tablet.run.ctx.dialogue.context.mode == "auto"
 
 
 def test_the_tablet_feedback_is_credited_like_a_scenario_one(played):

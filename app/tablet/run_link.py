@@ -52,12 +52,12 @@ class RunTablet:
         self.files: FileRegistry | None = None
         self.view: MindView | None = None
         self._requests: queue.Queue[Request] = queue.Queue(config.server.max_queued)
-        self._run: Any = None
+        self.run: Any = None
         self._mode_line: str | None = None   # the tablet line its mode was set for
 
     def attach(self, run: Any) -> None:
         """Hook into a built :class:`app.run.HouseholdRun` (before its first tick)."""
-        self._run = run
+        self.run = run
         self.files = FileRegistry(run.out)
         if run.ctx.dialogue is not None:
             tap(run.ctx.dialogue, self.replies, self.files, run.ctx.clock, self._replied)
@@ -103,11 +103,11 @@ class RunTablet:
                 return
             if request.value:
                 self._feedback(request.value)
-            elif self._run.ctx.dialogue is not None:   # a robot without speech hears nothing
+            elif self.run.ctx.dialogue is not None:   # a robot without speech hears nothing
                 self._hear(request)
 
     def _hear(self, request: Request) -> None:
-        sim, ctx = self._run.sim, self._run.ctx
+        sim, ctx = self.run.sim, self.run.ctx
         person = self.config.person
         x, y, yaw = sim.robot.pose()
         in_front = (x + 0.5 * math.cos(yaw), y + 0.5 * math.sin(yaw))   # at the chest tablet
@@ -119,7 +119,7 @@ class RunTablet:
         ctx.inbox.append(line)
 
     def _feedback(self, value: int) -> None:
-        sim, ctx = self._run.sim, self._run.ctx
+        sim, ctx = self.run.sim, self.run.ctx
         ctx.events.emit("tablet_feedback", value=value)
         ctx.inbox.append(FeedbackEvent(sim.t, self.config.person, value, None))
 
@@ -127,5 +127,5 @@ class RunTablet:
         """Once the tablet line chosen in a mode is answered, the robot routes by itself
         again (the button chose the kind of that one conversation turn)."""
         if self._mode_line is not None and record["input"] == self._mode_line:
-            self._run.ctx.dialogue.context.mode = "auto"
+            self.run.ctx.dialogue.context.mode = "auto"
             self._mode_line = None
