@@ -6,12 +6,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+import py_trees
 import pytest
 from starlette.testclient import TestClient
 
+from app.core.config_files import ConfigError
 from app.tablet.cards import FileRegistry
 from app.tablet.chat_link import ChatTablet
 from app.tablet.config import KINDS, load_tablet_config
+from app.tablet.record import ViewFrames, frame_time
 from app.tablet.server import CSP, create_app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -133,3 +137,25 @@ def test_the_live_view_of_a_session_streams(client, backend):
     with client.stream("GET", "/api/stream") as stream:
         first = next(line for line in stream.iter_lines() if line.startswith("data:"))
     assert '"t":1.0' in first
+
+
+def test_a_run_keeps_a_bounded_number_of_view_frames(tmp_path):
+    config = load_tablet_config()
+    config = config.model_copy(update={"replay": config.replay.model_copy(
+        update={"frame_period_s": 5.0, "max_frames": 3})})
+    clock = {"t": 0.0}
+    frames = ViewFrames(tmp_path, lambda: clock["t"], config)
+    py_trees.blackboard.Blackboard.storage["/frame"] = np.zeros((240, 320, 3), np.uint8)
+    py_trees.blackboard.Blackboard.storage["/detections"] = []
+    for step in range(300):   # 30 simulated s at 0.1 s
+        clock["t"] = step / 10
+        frames()
+    kept = sorted(p.name for p in (tmp_path / "view").iterdir())
+    assert [frame_time(n) for n in kept] == [0.0, 5.0, 10.0]   # every 5 s, at most 3
+
+
+def test_a_config_must_name_every_kind(tmp_path):
+    bad = tmp_path / "tablet.yaml"
+    bad.write_text("buttons:\n  karaoke: {label: Karaoke, line: sing}\n")
+    with pytest.raises(ConfigError, match="buttons must name exactly these kinds"):
+        load_tablet_config(bad)

@@ -43,13 +43,13 @@ def test_view_serves_a_run_folder_and_stops_on_sigint(tmp_path):
     proc, url, _ = serve(["view", str(small_run(tmp_path / "run"))])
     try:
         assert url.startswith("http://127.0.0.1:")
-        index = json.load(urllib.request.urlopen(url + "api/replay", timeout=10))
+        index = json.load(urllib.request.urlopen(url + "api/replay", timeout=30))
         assert index["duration"] == 2.0 and index["rows"] == 2
-        at = json.load(urllib.request.urlopen(url + "api/replay/at?t=1.5", timeout=10))
+        at = json.load(urllib.request.urlopen(url + "api/replay/at?t=1.5", timeout=30))
         assert at["action"] == "stand_by" and at["why"]["reason"] == "policy"
     finally:
         proc.send_signal(signal.SIGINT)
-        assert proc.wait(timeout=20) == 0
+        assert proc.wait(timeout=60) == 0
 
 
 def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
@@ -59,15 +59,15 @@ def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
         assert secret in token
         base = url.split("?")[0].replace("0.0.0.0", "127.0.0.1")
         try:
-            urllib.request.urlopen(base + "api/config", timeout=10)
+            urllib.request.urlopen(base + "api/config", timeout=30)
             raise AssertionError("served without the token")
         except urllib.error.HTTPError as exc:
             assert exc.code == 401
-        ok = urllib.request.urlopen(base + "api/config?token=" + secret, timeout=10)
+        ok = urllib.request.urlopen(base + "api/config?token=" + secret, timeout=30)
         assert json.load(ok)["kind"] == "replay"
     finally:
         proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=20) == 143
+        assert proc.wait(timeout=60) == 143
 
 
 def test_bad_use_exits_2(tmp_path):
