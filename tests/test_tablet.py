@@ -159,3 +159,15 @@ def test_a_config_must_name_every_kind(tmp_path):
     bad.write_text("buttons:\n  karaoke: {label: Karaoke, line: sing}\n")
     with pytest.raises(ConfigError, match="buttons must name exactly these kinds"):
         load_tablet_config(bad)
+
+
+def test_a_full_queue_to_the_run_is_refused_not_waited_on():
+    from app.tablet.run_link import RunTablet
+
+    config = load_tablet_config()
+    config = config.model_copy(update={"server": config.server.model_copy(
+        update={"max_queued": 1})})
+    client = TestClient(create_app(RunTablet(config)), base_url="http://127.0.0.1")
+    assert client.post("/api/feedback", json={"value": 1}).json()["queued"]
+    assert client.post("/api/feedback", json={"value": -1}).status_code == 503   # not drained yet
+    assert client.get("/api/snapshot").json() == {}       # no tick yet: no snapshot
