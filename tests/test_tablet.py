@@ -16,6 +16,7 @@ from app.tablet.cards import FileRegistry
 from app.tablet.chat_link import ChatTablet
 from app.tablet.config import KINDS, load_tablet_config
 from app.tablet.record import ViewFrames, frame_time
+from app.tablet.run_link import RunTablet
 from app.tablet.server import CSP, create_app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -162,8 +163,6 @@ def test_a_config_must_name_every_kind(tmp_path):
 
 
 def test_a_full_queue_to_the_run_is_refused_not_waited_on():
-    from app.tablet.run_link import RunTablet
-
     config = load_tablet_config()
     config = config.model_copy(update={"server": config.server.model_copy(
         update={"max_queued": 1})})
