@@ -4,6 +4,8 @@
         every conversation button pressed in headless Chromium against `companion tablet`'s
         app; the latency from the press to the reply and its card on screen, measured by the
         page itself (p50/p95 per button and over all presses)
+    python bench/bench_tablet.py buttons --rounds 5 --run runs/bench-tablet/buttons-run
+        the same during a run of the living room: the robot hears each line and answers
     python bench/bench_tablet.py run --out runs/bench-tablet/plain
     python bench/bench_tablet.py run --tablet --clients 1 --out runs/bench-tablet/tablet
     python bench/bench_tablet.py run --tablet --clients 50 --out runs/bench-tablet/load
@@ -56,43 +58,42 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, max(0, round(q * len(ordered) + 0.5) - 1))]
 
 
-def buttons(rounds: int) -> dict[str, Any]:
-    """Press every button ``rounds`` times in headless Chromium; latencies in ms."""
+def _browser() -> Any:
     import shutil
 
     from selenium import webdriver
-    from selenium.webdriver.common.by import By
-    from selenium.webdriver.support.ui import WebDriverWait
-
-    from app.tablet.chat_link import ChatTablet
-    from app.tablet.config import KINDS, load_tablet_config
-    from app.tablet.serve import TabletServer
 
     options = webdriver.ChromeOptions()
     options.binary_location = shutil.which("chromium")
     for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
         options.add_argument(arg)
-    driver = webdriver.Chrome(options=options,
-                              service=webdriver.ChromeService(shutil.which("chromedriver")))
+    return webdriver.Chrome(options=options,
+                            service=webdriver.ChromeService(shutil.which("chromedriver")))
+
+
+def _press_all(driver: Any, base: str, rounds: int, pause_s: float) -> dict[str, list[float]]:
+    """Press every button ``rounds`` times; the page's latencies (ms) by button."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    from app.tablet.config import KINDS
+
     latencies: dict[str, list[float]] = collections.defaultdict(list)
-    with tempfile.TemporaryDirectory() as tmp:
-        tablet = ChatTablet.from_scenario(ROOT / "worlds" / "living_room.yaml",
-                                          load_tablet_config(), Path(tmp))
-        with TabletServer(tablet, "127.0.0.1", 0) as server:
-            driver.get(f"http://127.0.0.1:{server.port}/")
-            body = driver.find_element(By.TAG_NAME, "body")
-            WebDriverWait(driver, 30).until(lambda _: body.get_attribute("data-ready"))
-            for _ in range(rounds):
-                for kind in KINDS:
-                    before = body.get_attribute("data-seq") or "0"
-                    driver.find_element(By.ID, f"btn-{kind}").click()
-                    WebDriverWait(driver, 30, poll_frequency=0.01).until(
-                        lambda _, b=before: (body.get_attribute("data-seq") or "0") != b
-                        and body.get_attribute("data-latency"))
-                    latencies[kind].append(float(body.get_attribute("data-latency")))
-                    driver.execute_script("delete document.body.dataset.latency")
-        tablet.close()
-    driver.quit()
+    driver.get(base)
+    body = driver.find_element(By.TAG_NAME, "body")
+    WebDriverWait(driver, 60).until(lambda _: body.get_attribute("data-ready"))
+    for _ in range(rounds):
+        for kind in KINDS:
+            driver.find_element(By.ID, f"btn-{kind}").click()
+            WebDriverWait(driver, 120, poll_frequency=0.01).until(
+                lambda _: body.get_attribute("data-latency"))
+            latencies[kind].append(float(body.get_attribute("data-latency")))
+            driver.execute_script("delete document.body.dataset.latency")
+            time.sleep(pause_s)
+    return latencies
+
+
+def _summary(latencies: dict[str, list[float]], rounds: int) -> dict[str, Any]:
     every = [v for vs in latencies.values() for v in vs]
     return {"rounds": rounds, "presses": len(every),
             "p50_ms": round(percentile(every, 0.5), 1), "p95_ms": round(percentile(every, 0.95), 1),
@@ -100,6 +101,60 @@ def buttons(rounds: int) -> dict[str, Any]:
             "per_button": {k: {"p50_ms": round(percentile(v, 0.5), 1),
                                "p95_ms": round(percentile(v, 0.95), 1)}
                            for k, v in latencies.items()}}
+
+
+def buttons(rounds: int) -> dict[str, Any]:
+    """Press every button ``rounds`` times in headless Chromium against the tablet alone
+    (`companion tablet`'s app over the living room); latencies in ms."""
+    from app.tablet.chat_link import ChatTablet
+    from app.tablet.config import load_tablet_config
+    from app.tablet.serve import TabletServer
+
+    driver = _browser()
+    with tempfile.TemporaryDirectory() as tmp:
+        tablet = ChatTablet.from_scenario(ROOT / "worlds" / "living_room.yaml",
+                                          load_tablet_config(), Path(tmp))
+        with TabletServer(tablet, "127.0.0.1", 0) as server:
+            latencies = _press_all(driver, f"http://127.0.0.1:{server.port}/", rounds, 0.0)
+        tablet.close()
+    driver.quit()
+    return _summary(latencies, rounds)
+
+
+def buttons_in_a_run(rounds: int, out: Path) -> dict[str, Any]:
+    """The same presses during a run of the living room with nobody else talking (a pause
+    of 2 wall s after each reply, so a song or a photo can begin): the robot hears each
+    line, turns to it and answers; the run is stopped (SIGINT) once all are answered."""
+    import signal
+
+    from app.run import RunOptions, run_scenario
+    from app.sim.scenario import load_scenario
+    from app.tablet.config import load_tablet_config
+    from app.tablet.run_link import RunTablet
+    from app.tablet.serve import TabletServer
+
+    base = load_scenario(ROOT / "worlds" / "living_room.yaml")
+    quiet = base.model_copy(update={"duration": 3600.0, "people": tuple(
+        q.model_copy(update={"events": ()}) for q in base.people)})
+    tablet = RunTablet(load_tablet_config())
+    driver = _browser()
+    found: dict[str, Any] = {}
+
+    def press(url: str) -> None:
+        try:
+            found["latencies"] = _press_all(driver, url, rounds, 2.0)
+        finally:
+            os.kill(os.getpid(), signal.SIGINT)   # ends the run, which writes its report
+
+    with TabletServer(tablet, "127.0.0.1", 0) as server:
+        presser = threading.Thread(target=press, args=(f"http://127.0.0.1:{server.port}/",))
+        presser.start()
+        metrics = run_scenario(quiet, out, RunOptions(tablet=tablet, adapt=False),
+                               progress=False, overwrite=True)
+        presser.join()
+    driver.quit()
+    return {**_summary(found["latencies"], rounds), "simulated_s": metrics["duration_s"],
+            "wall_s": metrics["wall_s"]}
 
 
 async def _client(url: str, stats: dict[str, Any], done: threading.Event) -> None:
@@ -269,6 +324,7 @@ def main() -> None:
     sub = parser.add_subparsers(dest="what", required=True)
     b = sub.add_parser("buttons")
     b.add_argument("--rounds", type=int, default=20)
+    b.add_argument("--run", type=Path, help="press them during a run kept in this folder")
     r = sub.add_parser("run")
     r.add_argument("--world", default="worlds/nursing_home.yaml")
     r.add_argument("--duration", type=float, default=600)
@@ -286,7 +342,7 @@ def main() -> None:
     c.add_argument("other", type=Path)
     args = parser.parse_args()
     if args.what == "buttons":
-        result = buttons(args.rounds)
+        result = buttons_in_a_run(args.rounds, args.run) if args.run else buttons(args.rounds)
     elif args.what == "run":
         result = run(args)
     elif args.what == "ticks":
