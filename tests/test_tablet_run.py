@@ -110,6 +110,8 @@ def test_the_run_folder_replays(played):
     assert early["t"] < late["t"] and late["action"]
     assert late["frame_src"].startswith("/api/file/") and late["frame_t"] > early["frame_t"]
     assert view.snapshot_at(0.0)["frame_src"] is None   # no frame before the first tick
+    trees = [view.snapshot_at(f)["tree"] for f in (6.0, index["duration"])]
+    assert all("Sense [✓]" in tree for tree in trees) and len(view.trees) == len(frames)
     answered = next(e["t"] for e in events_of(out) if e["kind"] == "say" and e.get("line"))
     assert [d["route"] for d in view.snapshot_at(answered)["dialogue"]] == ["time"]
     assert view.snapshot_at(answered - 0.5)["dialogue"] == []

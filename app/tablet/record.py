@@ -1,9 +1,13 @@
-"""What a run keeps for ``companion view``: beside its events and timeline, the head camera
-every ``replay.frame_period_s`` simulated seconds, with the detector's boxes, as small JPEGs
-in ``view/`` (at most ``replay.max_frames``, so a soak's folder stays bounded)."""
+"""What a run keeps for ``companion view``: beside its events and timeline, every
+``replay.frame_period_s`` simulated seconds, the head camera with the detector's boxes as a
+small JPEG in ``view/`` and the behaviour tree with each node's status as one line of
+``view/trees.jsonl`` (at most ``replay.max_frames`` of each, so a soak's folder stays
+bounded)."""
 
 from __future__ import annotations
 
+import json
+import os
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +18,7 @@ from app.tablet.config import TabletConfig, load_tablet_config
 from app.tablet.live import frame_jpeg
 
 VIEW_DIR = "view"
+TREES = "trees.jsonl"
 
 
 def frame_name(t: float) -> str:
@@ -43,7 +48,7 @@ class ViewFrames:
         self._next = 0.0
 
     def __call__(self, tree: Any = None) -> None:
-        """Save the latest camera frame once per period."""
+        """Save the latest camera frame (and the tree's statuses) once per period."""
         t = self.clock()
         if t < self._next or self.left <= 0:
             return
@@ -53,7 +58,29 @@ class ViewFrames:
             return
         self._next = t + self.config.replay.frame_period_s
         jpg = frame_jpeg(frame, store.get("/detections") or [], self.config.live)
-        if jpg is not None:
-            self.folder.mkdir(parents=True, exist_ok=True)
-            atomic_write_bytes(self.folder / frame_name(t), jpg)
-            self.left -= 1
+        if jpg is None:
+            return
+        self.folder.mkdir(parents=True, exist_ok=True)
+        atomic_write_bytes(self.folder / frame_name(t), jpg)
+        self.left -= 1
+        if tree is not None:
+            line = json.dumps({"t": round(t, 2), "tree": py_trees.display.unicode_tree(
+                tree.root, show_status=True)}, ensure_ascii=False) + "\n"
+            _append_whole(self.folder / TREES, line.encode())
+
+
+def _append_whole(path: Path, data: bytes) -> None:
+    """Append ``data`` in one ``write`` call, so a killed run leaves no half line; a line
+    the file system took only in part (a full disk) is cut off again before the error goes
+    up."""
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o644)
+    size = os.fstat(fd).st_size
+    left = memoryview(data)
+    try:
+        while left:   # the rest of a short write: the file system's own error, if any
+            left = left[os.write(fd, left):]
+    except OSError:
+        os.ftruncate(fd, size)
+        raise
+    finally:
+        os.close(fd)

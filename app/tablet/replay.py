@@ -2,10 +2,10 @@
 
 The run folder already holds what the view needs: ``timeline.csv`` (drives, motivations,
 mood and action at each homeostasis step), ``events.jsonl`` (why each action started,
-pre-emptions, credited feedback, what was heard and said), ``view/`` (the head camera every
-few seconds, :mod:`app.tablet.record`), ``tree.txt`` (the tree's shape and last statuses)
-and ``scenario.yaml`` (the personality, for the desired ranges). Statuses of each node at
-each tick are not kept; the replay shows the tree as the run left it.
+pre-emptions, credited feedback, what was heard and said), ``view/`` (the head camera and
+the tree with each node's status every few seconds, :mod:`app.tablet.record`) and
+``scenario.yaml`` (the personality, for the desired ranges). A folder without
+``view/trees.jsonl`` shows the tree as the run left it (``tree.txt``).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from app.mind.personality import DRIVES, MOTIVATIONS, load_personality
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import SnapshotSlot, ranges
-from app.tablet.record import VIEW_DIR, frame_time
+from app.tablet.record import TREES, VIEW_DIR, frame_time
 from app.tablet.replies import ReplyLog
 
 WHY_KINDS = ("action", "preempted", "credited")
@@ -57,6 +57,10 @@ class ReplayView:
         self._ranges = ranges(Homeostasis(load_personality(scenario.get("personality"))))
         tree = run_dir / "tree.txt"
         self._tree = read_text(tree).split("\n\nLast tick:\n")[-1] if tree.is_file() else ""
+        trees = run_dir / VIEW_DIR / TREES
+        self.trees = [json.loads(line) for line in read_text(trees, DATA_LIMIT).splitlines()
+                      if line] if trees.is_file() else []
+        self.tree_times = [float(e["t"]) for e in self.trees]
         self.frames = self._frames()
 
     def _frames(self) -> list[tuple[float, str]]:
@@ -68,6 +72,10 @@ class ReplayView:
             if file_id is not None:
                 found.append((t, f"/api/file/{file_id}"))
         return sorted(found)
+
+    def _tree_at(self, t: float) -> str:
+        k = bisect.bisect_right(self.tree_times, t) - 1
+        return self.trees[k]["tree"] if k >= 0 else self._tree
 
     def index(self) -> dict[str, Any]:
         """The slider's span: the run's duration, the timeline's step, the frames kept."""
@@ -102,7 +110,7 @@ class ReplayView:
             "ranges": self._ranges, "action": row["action"],
             "why": {"reason": action.get("reason"), "since": action.get("t"),
                     "preempted": latest.get("preempted"), "credited": latest.get("credited")},
-            "tree": self._tree,
+            "tree": self._tree_at(t),
             "frame_src": self.frames[k][1] if k >= 0 else None,
             "frame_t": self.frames[k][0] if k >= 0 else None,
             "dialogue": said[-self.config.live.dialogue_lines:],
