@@ -142,6 +142,8 @@ def buttons_in_a_run(rounds: int, out: Path) -> dict[str, Any]:
 
     def press(url: str) -> None:
         try:
+            while tablet.slot.seq == 0:   # the run is still loading its models
+                time.sleep(0.1)
             found["latencies"] = _press_all(driver, url, rounds, 2.0)
         finally:
             os.kill(os.getpid(), signal.SIGINT)   # ends the run, which writes its report
