@@ -124,7 +124,7 @@ def buttons(rounds: int) -> dict[str, Any]:
 def buttons_in_a_run(rounds: int, out: Path) -> dict[str, Any]:
     """The same presses during a run of the living room with nobody else talking (a pause
     of 2 wall s after each reply, so a song or a photo can begin): the robot hears each
-    line, turns to it and answers; the run is stopped (SIGINT) once all are answered."""
+    line, turns to it and answers; the run is stopped (SIGTERM) once all are answered."""
     import signal
 
     from app.run import RunOptions, run_scenario
@@ -146,7 +146,7 @@ def buttons_in_a_run(rounds: int, out: Path) -> dict[str, Any]:
                 time.sleep(0.1)
             found["latencies"] = _press_all(driver, url, rounds, 2.0)
         finally:
-            os.kill(os.getpid(), signal.SIGINT)   # ends the run, which writes its report
+            os.kill(os.getpid(), signal.SIGTERM)   # ends the run, which writes its report
 
     with TabletServer(tablet, "127.0.0.1", 0) as server:
         presser = threading.Thread(target=press, args=(f"http://127.0.0.1:{server.port}/",))
