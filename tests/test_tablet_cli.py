@@ -49,7 +49,7 @@ def test_view_serves_a_run_folder_and_stops_on_sigint(tmp_path):
         assert at["action"] == "stand_by" and at["why"]["reason"] == "policy"
     finally:
         proc.send_signal(signal.SIGINT)
-        assert proc.wait(timeout=60) == 0
+        assert proc.wait(timeout=60) == 0, proc.stderr.read()
 
 
 def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
@@ -67,7 +67,7 @@ def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
         assert json.load(ok)["kind"] == "replay"
     finally:
         proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=60) == 143
+        assert proc.wait(timeout=60) == 143, proc.stderr.read()
 
 
 def test_bad_use_exits_2(tmp_path):

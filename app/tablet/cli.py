@@ -62,15 +62,15 @@ def serve_until_stopped(backend: Any, args: argparse.Namespace, what: str) -> in
     server = TabletServer(backend, args.host or cfg.host,
                           cfg.port if args.port is None else args.port)
     with server:
-        print(f"{what}: {server.url}", flush=True)
-        if server.token:
-            print(f"token: {server.token} (give it once as ?token=...)", flush=True)
-        try:
+        try:   # from here on Ctrl-C is how a person closes the server
+            print(f"{what}: {server.url}", flush=True)
+            if server.token:
+                print(f"token: {server.token} (give it once as ?token=...)", flush=True)
             while True:
                 time.sleep(0.5)
         except Terminated:   # SIGTERM: exit 143, as every command does
             raise
-        except KeyboardInterrupt:   # Ctrl-C is how a person closes the server
+        except KeyboardInterrupt:
             print("stopped", flush=True)
     return 0
 
