@@ -8,14 +8,24 @@ WORLD  ?= worlds/living_room.yaml
 WORDNET := /usr/share/wordnet/data.noun
 SUDO   := $(if $(filter 0,$(shell id -u)),,sudo)
 
-.PHONY: setup demo test lint bench snapshots clean
+.PHONY: setup browser demo test lint bench snapshots clean
 
-setup: $(STAMP) $(WORDNET)
+setup: $(STAMP) $(WORDNET) browser
 
 # WordNet 3.0 (Debian's wordnet-base) answers the robot's everyday questions, read in place.
 $(WORDNET):
 	$(SUDO) apt-get update -qq
 	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends wordnet-base
+
+# The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
+# its driver: Debian's chromium and chromium-driver (and a colour emoji font for the pages'
+# icons in screenshots), installed with apt-get (with sudo when not root) unless both
+# programs are already on the PATH.
+browser:
+	@command -v chromium >/dev/null && command -v chromedriver >/dev/null || { \
+	  $(SUDO) apt-get update -qq && \
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver \
+	    fonts-noto-color-emoji; }
 
 # torch and torchvision come as a matching pair from the package registry: `--isolated`
 # keeps pip away from locally configured wheel folders that hold an unmatched torch build.

@@ -21,7 +21,7 @@ DOMAINS = ["app.mind.policy.training.cli", "app.mind.preferences.evaluation.cli"
            "dialogue.speech.training.cli",
            "perception.detector.training.cli",
            "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",
-           "app.sweep.cli"]
+           "app.sweep.cli", "app.tablet.cli"]
 GROUPS = {"train": "train a model", "eval": "evaluate a model against its bars",
           "data": "generate a data set", "export": "export a trained model for the robot",
           "bench": "measure the whole robot"}

@@ -3,7 +3,8 @@
 The run folder gets ``events.jsonl`` (flushed per event), ``timeline.csv`` (one row per
 homeostasis step), ``dialogue.jsonl``, ``metrics.json``, ``plots/*.png``, ``frames/*.png``
 (the camera at key moments), ``tree.txt`` (the tree's shape and its last statuses) and
-``scenario.yaml`` (the scenario as run). Each question the robot asks is scored against the
+``scenario.yaml`` (the scenario as run) and ``view/*.jpg`` (the camera every few seconds, for
+``companion view``). Each question the robot asks is scored against the
 world's ground truth of what its camera shows (a ``question_truth`` event; the robot never
 sees it). The folder is claimed for the run (a lock; an earlier run is replaced only on
 request). Every file is written whole: reports atomically, logs a line at a time. A run
@@ -37,6 +38,7 @@ from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
 from app.sim.dances import song_names
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.simulation import Simulation
+from app.tablet.record import ViewFrames
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, make_context
 from behaviours.ticking import SimulationTree
@@ -122,7 +124,8 @@ class RunOptions:
     ``threads``: the detector's CPU threads (None: the detector config's), and the cores the
     run may use: with two or more a helper process renders part of each camera frame
     (:class:`~app.sim.split_render.SplitRenderer`; None: the machine's cores). ``profile``:
-    time the run's parts (:mod:`app.core.profiling`).
+    time the run's parts (:mod:`app.core.profiling`). ``tablet``: an
+    :class:`app.tablet.run_link.RunTablet` that a web server feeds during the run.
     """
 
     gui: bool = False
@@ -134,6 +137,7 @@ class RunOptions:
     adapt: bool = True
     threads: int | None = None
     profile: bool = False
+    tablet: Any = None
 
 
 def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
@@ -186,6 +190,9 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
         tree.add_pre_tick_handler(lambda _: injector.apply(
             sim.t, ctx.steps.last_action))
     run = HouseholdRun(scenario, sim, ctx, tree, saver, out, profile=profile)
+    tree.add_post_tick_handler(ViewFrames(out, ctx.clock))
+    if options.tablet is not None:
+        options.tablet.attach(run)
     if profile is not None:
         _instrument(run, profile)
     tree.setup()

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from app.core.cli_args import integer, real, seed
 from app.core.limits import MAX_DURATION_S
+from app.tablet.cli import add_server_options
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -55,6 +56,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--profile", action="store_true",
                    help="time the run's parts (simulation step, render, detect, models, "
                    "tree, writing): a table, and `profile` in metrics.json")
+    p.add_argument("--tablet", action="store_true",
+                   help="serve the robot's tablet and the live view of its mind during the "
+                   "run (docs/tablet.md)")
+    add_server_options(p)
     p.add_argument("--json", action="store_true", help="print the metrics as one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_command)
@@ -102,6 +107,7 @@ def run_command(args: argparse.Namespace) -> int:
     from app.core.signals import status_of
     from app.faults import load_faults
     from app.run import RunOptions, prepare_scenario, run_scenario
+    from app.tablet.cli import tablet_serving
 
     scenario = prepare_scenario(args.scenario, duration=args.duration, seed=args.seed,
                                 loop=args.loop)
@@ -111,11 +117,13 @@ def run_command(args: argparse.Namespace) -> int:
     faults = load_faults(args.faults) if args.faults else None
     memory = None if args.no_memory or args.no_adaptation else (
         args.memory or out.parent / "memory" / f"{scenario.name}.json")
-    options = RunOptions(gui=args.gui, policy_path=args.policy,
-                         behaviour_config=args.behaviour, audio=args.audio, faults=faults,
-                         memory=memory, adapt=not args.no_adaptation, profile=args.profile)
-    metrics = run_scenario(scenario, out, options, progress=not args.no_progress,
-                           overwrite=args.overwrite)
+    with tablet_serving(args) as tablet:   # None without --tablet
+        options = RunOptions(gui=args.gui, policy_path=args.policy,
+                             behaviour_config=args.behaviour, audio=args.audio, faults=faults,
+                             memory=memory, adapt=not args.no_adaptation,
+                             profile=args.profile, tablet=tablet)
+        metrics = run_scenario(scenario, out, options, progress=not args.no_progress,
+                               overwrite=args.overwrite)
     status = status_of(metrics["interrupted_by"])
     if args.json:
         print(json.dumps(metrics))

@@ -50,9 +50,9 @@ def assert_whole(out: Path) -> list[dict]:
     with (out / "timeline.csv").open(newline="") as fh:
         rows = list(csv.reader(fh))
     assert rows and all(len(r) == len(rows[0]) for r in rows)
-    for line in (out / "dialogue.jsonl").read_text().splitlines() if (
-            out / "dialogue.jsonl").exists() else []:
-        json.loads(line)
+    for name in ("dialogue.jsonl", "view/trees.jsonl"):
+        for line in (out / name).read_text().splitlines() if (out / name).exists() else []:
+            json.loads(line)
     return events
 
 

@@ -25,7 +25,7 @@ from app.core.errors import UserError
 LOCK = ".lock"
 # Files and folders a household run writes; a folder with only these (and the lock) is a run.
 RUN_FILES = {"events.jsonl", "timeline.csv", "dialogue.jsonl", "metrics.json", "tree.txt",
-             "scenario.yaml", "plots", "frames", "audio"}
+             "scenario.yaml", "plots", "frames", "audio", "view"}
 RUN_MARKERS = {"events.jsonl", "metrics.json", "scenario.yaml"}
 _held: dict[Path, int] = {}   # folder -> lock file descriptor, kept open while the run lives
 
