@@ -12,6 +12,8 @@ import threading
 from pathlib import Path
 
 import pytest
+from test_tablet import CARD_OF
+from test_tablet_run import quiet_living_room
 
 from app.mind.personality import ACTIONS
 from app.run import RunOptions, run_scenario
@@ -20,8 +22,6 @@ from app.tablet.config import KINDS, load_tablet_config
 from app.tablet.replay import ReplayView
 from app.tablet.run_link import RunTablet
 from app.tablet.serve import TabletServer
-from tests.test_tablet import CARD_OF
-from tests.test_tablet_run import quiet_living_room
 
 ROOT = Path(__file__).resolve().parents[1]
 CHROMIUM, DRIVER = shutil.which("chromium"), shutil.which("chromedriver")
