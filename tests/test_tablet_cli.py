@@ -11,6 +11,8 @@ import sys
 import urllib.request
 from pathlib import Path
 
+from test_run_folder import ctrl_c_as_at_a_terminal
+
 from app.report import TIMELINE_COLUMNS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -33,7 +35,8 @@ def small_run(folder: Path) -> Path:
 def serve(args: list[str]) -> tuple[subprocess.Popen, str, str]:
     """Start a serving command; the process, its address and its token line (if any)."""
     proc = subprocess.Popen([*COMPANION, *args, "--port", "0"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=ENV)
+                            stderr=subprocess.PIPE, text=True, env=ENV,
+                            preexec_fn=ctrl_c_as_at_a_terminal)
     url = proc.stdout.readline().split(": ", 1)[1].strip()
     token = proc.stdout.readline() if "token=" in url else ""
     return proc, url, token
@@ -49,7 +52,8 @@ def test_view_serves_a_run_folder_and_stops_on_sigint(tmp_path):
         assert at["action"] == "stand_by" and at["why"]["reason"] == "policy"
     finally:
         proc.send_signal(signal.SIGINT)
-        assert proc.wait(timeout=60) == 0, proc.stderr.read()
+        _, err = proc.communicate(timeout=60)   # drains the pipes: a full one would block it
+        assert proc.returncode == 0, err
 
 
 def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
@@ -67,7 +71,8 @@ def test_off_loopback_a_token_is_printed_and_needed(tmp_path):
         assert json.load(ok)["kind"] == "replay"
     finally:
         proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=60) == 143, proc.stderr.read()
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode == 143, err
 
 
 def test_bad_use_exits_2(tmp_path):
