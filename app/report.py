@@ -9,6 +9,7 @@ from collections import Counter, defaultdict
 from pathlib import Path
 from typing import Any
 
+import jiwer
 import matplotlib
 
 matplotlib.use("Agg")
@@ -18,7 +19,9 @@ import numpy as np
 from app.core.checkpoint import atomic_write, atomic_write_bytes
 from app.core.events import LineFile
 from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+from app.sim.scenario import AUDIENCES
 from behaviours.step_record import StepRecord
+from dialogue.speech.words import spoken_words
 
 TIMELINE_COLUMNS = ["t", "action", "relieving", *DRIVES, *(f"m_{m}" for m in MOTIVATIONS),
                     *STIMULI, "mood", "mood_positive", "secure"]
@@ -78,6 +81,7 @@ def compute_metrics(steps: StepRecord, events: list[dict[str, Any]]) -> dict[str
 
 
 ANSWERED_WITHIN_S = 15.0  # a line counts as answered when the reply starts this soon
+NOT_ANSWERS = ("say_again", "not_understood")   # replies that ask again or give up
 
 
 def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
@@ -86,9 +90,29 @@ def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
     heard = {e["line"]: e["t"] for e in events if e["kind"] == "heard"}
     first: dict[int, float] = {}
     for e in events:
-        if e["kind"] == "say" and e.get("line") in heard:
+        if e["kind"] == "say" and e.get("line") in heard and e.get("route") not in NOT_ANSWERS:
             first.setdefault(e["line"], e["t"] - heard[e["line"]])
     return sorted(first.values())
+
+
+def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
+    """How the robot heard: lines people said to it (repeats apart), those loud enough to
+    make a sound at its microphones, those it made out, those it was unsure of, how often
+    it asked for a line again, and the word error rate of its transcripts of lines said to
+    it (against what was said, which only the scoring knows)."""
+    said = {e["line"]: e for e in events if e["kind"] == "line_said"}
+    to_robot = [e for e in said.values() if e["to"] in AUDIENCES and e["how"] == "say"]
+    heard = [e for e in events if e["kind"] == "heard" and e["line"] in said]
+    refs = [" ".join(spoken_words(said[e["line"]]["text"])) for e in heard]
+    return {
+        "lines_said": len(to_robot),
+        "lines_audible": sum(e["audible"] for e in to_robot),
+        "lines_unclear": sum(bool(e.get("unclear")) for e in heard),
+        "asked_again": sum(e["kind"] == "say" and e.get("route") == "say_again"
+                           for e in events),
+        "lines_overheard": sum(e["kind"] == "overheard" for e in events),
+        "speech_wer": round(jiwer.wer(refs, [e["text"] for e in heard]), 4) if heard else None,
+    }
 
 
 def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
@@ -96,9 +120,11 @@ def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
     :data:`ANSWERED_WITHIN_S` and at all, the median time to the answer, find-people tries
     and successes, questions asked, and answers that were "I don't know"."""
     heard = {e["line"] for e in events if e["kind"] == "heard"}
-    replies = [e for e in events if e["kind"] == "say" and e.get("line") in heard]
+    replies = [e for e in events if e["kind"] == "say" and e.get("line") in heard
+               and e.get("route") not in NOT_ANSWERS]
     latency = answer_latencies(events)
     return {
+        **hearing_metrics(events),
         "lines_heard": len(heard),
         "lines_answered": sum(d <= ANSWERED_WITHIN_S for d in latency),
         "lines_replied": len(latency),

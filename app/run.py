@@ -44,6 +44,7 @@ from behaviours.context import Context, make_context
 from behaviours.ticking import SimulationTree
 from behaviours.tree import build_tree, render
 from dialogue.factory import household_dialogue
+from dialogue.speech.recognizer import SpeechRecognizer
 from perception.detector.config import load_detector_config
 from perception.detector.yolo import YoloDetector
 from perception.facing.config import DEFAULT_FACING_MODEL
@@ -175,7 +176,7 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
               else None)
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
                        audio_dir=out / "audio" if options.audio else None, dialogue=dialogue,
-                       questions=questions, facing=facing)
+                       questions=questions, facing=facing, recognizer=SpeechRecognizer())
     ctx.snapshot, ctx.contain_faults = saver, True
     if options.adapt:
         ctx.memory, ctx.memory_path = household or Memory(scenario.name), memory
@@ -209,6 +210,7 @@ def _instrument(run: HouseholdRun, profile: Profile) -> None:
     profile.wrap(ctx.detector, "detect", "detect")
     profile.wrap(ctx.facing, "facing", "facing model")
     profile.wrap(ctx.dialogue, "respond", "dialogue")
+    profile.wrap(ctx.recognizer, "transcribe", "speech recognition")
     profile.wrap(ctx.questions, "ask", "questions (VQG)")
     profile.wrap(ctx.speaker, "say", "speech")
     profile.wrap(ctx.events, "emit", "writing")
@@ -289,6 +291,9 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
             for _ in range(round(scenario.duration / scenario.step)):
                 tree.tick()
                 run.timeline.write(ctx.steps.take())
+                for said in sim.sound.said:   # what people said, for scoring the hearing
+                    ctx.events.emit("line_said", **said)
+                sim.sound.said.clear()
                 for e in ctx.events.events[seen:]:
                     if e["kind"] == "action":
                         frame, scene = scene_of(sim, visibility)

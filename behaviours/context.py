@@ -7,6 +7,7 @@ state lives on the py_trees blackboard instead (``behaviours/blackboard.py``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -65,6 +66,8 @@ class Context:
     dialogue: Any = None                     # dialogue.manager.DialogueManager
     questions: QuestionGenerator | None = None
     facing: FacingEstimator | None = None    # which way a person in a box looks
+    recognizer: Any = None                   # dialogue.speech.SpeechRecognizer: sounds -> words
+    ask_again: Callable[[int], None] = lambda line: None   # "say that again" reaches people
     camera_rate: float = 2.0                 # frames per second while no one is tracked
     inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far
@@ -108,4 +111,4 @@ def make_context(sim: Any, config: BehaviourConfig | None = None,
                    homeostasis=Homeostasis(load_personality(scenario.personality)),
                    config=config or load_behaviour_config(), clock=clock, events=events,
                    speaker=Speaker(events, audio_dir, sim.robot.cfg.voice), detector=detector,
-                   camera_rate=scenario.camera_rate, **services)
+                   camera_rate=scenario.camera_rate, ask_again=sim.ask_again, **services)

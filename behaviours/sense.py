@@ -1,14 +1,17 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
-- people's social events (the simulation's inbox): lines said to the robot (as its
-  microphones heard them) are queued in ``heard`` and, like a person in front, make the
-  human-present stimulus: someone talking to the robot is an interaction; praise switches
-  the encouragement stimulus on for ``encouragement_s``; feedback (praise or scolding, r_external)
-  is queued in ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave
-  feedback last is ``person``;
+- people's social events (the simulation's inbox): each sound the microphones recorded
+  goes through the speech recogniser (``ctx.recognizer``); a line said to the robot that it
+  made out is queued in ``heard`` (marked ``unclear`` when the recogniser was unsure, so the
+  chat skill asks for it again) and, like a person in front, makes the human-present
+  stimulus: someone talking to the robot is an interaction; lines for someone else are
+  logged as overheard; words of encouragement the robot made out switch the encouragement
+  stimulus on for ``encouragement_s``; feedback (praise or scolding, r_external) is queued in
+  ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave feedback last
+  is ``person``;
 - an emotion counts only on a face the detector found in the current frame (what the face
-  at the box's centre shows, :meth:`app.sim.world.World.expression_of`, standing in for an
-  expression classifier); it colours the mood for ``emotion_hold_s`` after it was last seen;
+  at the box's centre shows, :meth:`app.sim.world.World.expression_of`); it colours the
+  mood for ``emotion_hold_s`` after it was last seen;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
   once no person has been seen in a frame nor heard for ``idle_after_s``) go through the
@@ -26,8 +29,8 @@ from typing import Any
 import numpy as np
 from py_trees.common import Status
 
-from app.sim.hearing import HeardLine
-from app.sim.world import EncourageEvent, FeedbackEvent
+from app.sim.hearing import HeardLine, Sound
+from app.sim.world import FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
@@ -57,21 +60,12 @@ class Sense(ContextBehaviour):
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
 
     def _social(self) -> None:
-        cfg = self.ctx.config
         for ev in self.ctx.inbox:
-            if isinstance(ev, HeardLine):
+            if isinstance(ev, Sound):
+                self._listen(ev)
+            elif isinstance(ev, HeardLine):      # typed on the tablet: the words as given
                 self._noticed = self.now
-                if ev.to_robot:
-                    self.bb.heard = [*self.bb.heard, ev]
-                    self.bb.person = (ev.person, self.now)
-                    self._present_until = self.now + cfg.perception.present_hold_s
-                    self._spoken_feedback(ev)
-                self.emit("heard" if ev.to_robot else "overheard", line=ev.line,
-                          person=ev.person, text=ev.text, to=ev.to,
-                          bearing=round(ev.bearing, 3))
-            elif isinstance(ev, EncourageEvent):
-                self._encouraged_until = self.now + cfg.encouragement_s
-                self.emit("encouraged", person=ev.person, text=ev.text)
+                self._take(ev)
             elif isinstance(ev, FeedbackEvent):
                 self.bb.feedback = [*self.bb.feedback, ev]
                 self.bb.person = (ev.person, self.now)
@@ -79,6 +73,41 @@ class Sense(ContextBehaviour):
         self.ctx.inbox.clear()
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
+
+    def _listen(self, sound: Sound) -> None:
+        """Recognise ``sound``; act on what was made out of it."""
+        recognizer, cfg = self.ctx.recognizer, self.ctx.config
+        if recognizer is None:      # a robot without speech recognition hears nothing
+            return
+        words = recognizer.transcribe(sound.audio, sound.rate)
+        if not words.text:
+            self.emit("unheard", line=sound.line, person=sound.person,
+                      snr_db=round(words.snr_db, 1))
+            return
+        self._noticed = self.now
+        unclear = not recognizer.understood(words)
+        if sound.kind == "encourage":
+            if not unclear:
+                self._encouraged_until = self.now + cfg.encouragement_s
+            self.emit("encouraged" if not unclear else "unclear_encouragement",
+                      person=sound.person, text=words.text,
+                      confidence=round(words.confidence, 3))
+            return
+        self._take(HeardLine(sound.line, sound.t, sound.person, words.text, sound.to,
+                             sound.bearing, words.confidence, unclear=unclear))
+
+    def _take(self, line: HeardLine) -> None:
+        """Queue a line meant for the robot (heard, or typed on its tablet); log it."""
+        if line.to_robot:
+            self.bb.heard = [*self.bb.heard, line]
+            self.bb.person = (line.person, self.now)
+            self._present_until = self.now + self.ctx.config.perception.present_hold_s
+            if not line.unclear:
+                self._spoken_feedback(line)
+        self.emit("heard" if line.to_robot else "overheard", line=line.line,
+                  person=line.person, text=line.text, to=line.to,
+                  bearing=round(line.bearing, 3), confidence=round(line.confidence, 3),
+                  unclear=line.unclear)
 
     def _spoken_feedback(self, line: HeardLine) -> None:
         """A line that praises or scolds (``dialogue.feedback``) is also feedback; only a

@@ -82,7 +82,7 @@ def test_critical_energy_preempts_for_charging(setup):
 
 def line(ctx, text: str = "What time is it?", promised: bool = False, n: int = 1):
     """Line ``n``, heard now from straight ahead."""
-    return HeardLine(n, ctx.now, "Grace", text, "robot", 0.0, promised)
+    return HeardLine(n, ctx.now, "Grace", text, "robot", 0.0, promised=promised)
 
 
 @pytest.fixture

@@ -161,15 +161,19 @@ def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:
 
 
 def test_people_say_what_they_think_of_what_the_robot_does() -> None:
-    from app.sim.hearing import HeardLine
+    """What they say reaches the robot as sound; it hears praise and scolding in it."""
+    from app.sim.hearing import Sound
     from app.sim.simulation import Simulation
     from dialogue.feedback import FeedbackClassifier
+    from dialogue.speech.recognizer import SpeechRecognizer
 
     heard: list[tuple[str, str]] = []
+    recognizer = SpeechRecognizer()
     with Simulation.from_file(ROOT / "worlds" / "dislikes_dancing.yaml") as sim:
         for action, seconds in (("stand_by", 20), ("sing_dance", 20), ("chat", 20)):
             sim.show(action)
             for _ in range(round(seconds / sim.dt)):
-                heard += [(action, e.text) for e in sim.step() if isinstance(e, HeardLine)]
+                heard += [(action, recognizer.transcribe(e.audio, e.rate).text)
+                          for e in sim.step() if isinstance(e, Sound)]
     words = FeedbackClassifier.default()
     assert [(a, words.value(text)) for a, text in heard] == [("sing_dance", -1), ("chat", 1)]

@@ -1,11 +1,16 @@
 """The robot's microphones: what a line said in the household becomes for the robot.
 
-Pepper localises a voice with its four-microphone array. Here a :class:`Microphones`
-sensor turns each line a person says (:class:`app.sim.world.SayEvent`) into a
-:class:`HeardLine`: the words, who they were meant for, and the bearing of the voice as
-the array estimates it (the true bearing from the robot's head to the speaker plus
-Gaussian noise, ``direction_noise_deg``). The simulator's positions only make the sensor's
-reading; the behaviours see the reading alone.
+Pepper localises a voice with its four-microphone array. Here :class:`Microphones` turns
+each line a person says (:class:`app.sim.world.SayEvent`, or words of encouragement) into a
+:class:`Sound`: what the microphones record while it is said (the voice carried through the
+household by :mod:`app.sim.acoustics`, over the background of the robot's room), with the
+bearing of the voice as the array estimates it (the true bearing from the robot's head to
+the speaker plus Gaussian noise, ``direction_noise_deg``). A line too faint to rise above
+the noise makes no sound at all. The words themselves are not in a :class:`Sound`: the
+robot gets them only by recognising the recording (``dialogue/speech``). The simulator's
+positions only make the recording; the behaviours see the recording alone.
+
+Who said a line, and to whom, are still given (docs/what_the_robot_is_given.md).
 """
 
 from __future__ import annotations
@@ -17,20 +22,37 @@ import numpy as np
 from pydantic import Field
 
 from app.core.config_files import StrictModel
-from app.sim.world import SayEvent
 
 
 class MicrophonesConfig(StrictModel):
-    """The microphone array: how far off its bearing of a voice may be."""
+    """The microphone array: how far off its bearing of a voice may be, and how far below
+    the background a voice may be and still make a sound worth recognising."""
 
     direction_noise_deg: float = Field(ge=0.0, le=180.0)
+    audible_below_noise_db: float = Field(ge=0.0, le=40.0)
+
+
+@dataclass(frozen=True)
+class Sound:
+    """A recording of one line: ``line`` numbers it within the run, ``audio`` holds the
+    samples at ``rate`` Hz; ``bearing`` (rad, world frame) is where the voice came from as
+    the microphones localised it; ``kind`` is ``say`` or ``encourage``."""
+
+    line: int
+    t: float
+    person: str
+    to: str
+    bearing: float
+    audio: np.ndarray
+    rate: int
+    kind: str = "say"
 
 
 @dataclass(frozen=True)
 class HeardLine:
-    """A line the robot heard: ``line`` numbers it within the run; ``bearing`` (rad, world
-    frame) is where the voice came from as the microphones localised it; ``promised``:
-    the robot told the speaker it would answer later."""
+    """A line the robot recognised in a :class:`Sound`: ``text`` is its transcript,
+    ``confidence`` how sure the recogniser was; ``promised``: the robot told the speaker it
+    would answer later; ``unclear``: too unsure to act on, so the robot asks again."""
 
     line: int
     t: float
@@ -38,7 +60,9 @@ class HeardLine:
     text: str
     to: str
     bearing: float
+    confidence: float = 1.0
     promised: bool = False
+    unclear: bool = False
 
     @property
     def to_robot(self) -> bool:
@@ -50,16 +74,18 @@ class Microphones:
     """Localises voices; one per robot, seeded for reproducible runs."""
 
     def __init__(self, cfg: MicrophonesConfig, seed: int = 0) -> None:
+        self.cfg = cfg
         self.noise = math.radians(cfg.direction_noise_deg)
-        self._rng = np.random.default_rng(seed)
+        self.rng = np.random.default_rng(seed)
         self._count = 0
 
-    def hear(self, event: SayEvent, listener: tuple[float, float],
-             speaker: tuple[float, float]) -> HeardLine:
-        """``event`` as heard by a robot standing at ``listener`` (x, y) from a speaker at
-        ``speaker`` (x, y)."""
+    def number(self) -> int:
+        """The next line's number (lines are numbered whether heard or not)."""
         self._count += 1
+        return self._count
+
+    def bearing(self, listener: tuple[float, float], speaker: tuple[float, float]) -> float:
+        """The bearing of a voice at ``speaker`` heard at ``listener``, as localised."""
         true = math.atan2(speaker[1] - listener[1], speaker[0] - listener[0])
-        bearing = true + float(self._rng.normal(0.0, self.noise)) if self.noise else true
-        bearing = math.atan2(math.sin(bearing), math.cos(bearing))
-        return HeardLine(self._count, event.t, event.person, event.text, event.to, bearing)
+        bearing = true + float(self.rng.normal(0.0, self.noise)) if self.noise else true
+        return math.atan2(math.sin(bearing), math.cos(bearing))

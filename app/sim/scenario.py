@@ -148,6 +148,7 @@ class PersonSpec(StrictModel):
     events: tuple[Event, ...] = ()
     tastes: Tastes = Tastes()
     voice: Voice | None = None   # espeak-ng voice of their lines; None: one by their place
+    repeat_if_asked: bool = True  # say a line again when the robot asks them to
 
 
 InitialDrives = create_model(  # one optional field per drive name, each in [0, 1]

@@ -5,19 +5,18 @@ both run on it."""
 from __future__ import annotations
 
 import logging
-import math
 from pathlib import Path
 
 import pybullet as p
 
-from app.sim.hearing import HeardLine, Microphones
+from app.sim.hearing import Sound
+from app.sim.household_sound import HouseholdSound
 from app.sim.reactions import Reactions
 from app.sim.robot import Robot, load_robot_config
-from app.sim.scenario import Scenario, load_scenario, voice_of
-from app.sim.speech import speech_seconds, write_wav
+from app.sim.scenario import Scenario, load_scenario
+from app.sim.speech import speech_seconds
 from app.sim.split_render import SplitRenderer
-from app.sim.voices import VoiceError, synthesise
-from app.sim.world import EmotionEvent, SayEvent, SocialEvent, World
+from app.sim.world import EmotionEvent, EncourageEvent, SayEvent, SocialEvent, World
 
 log = logging.getLogger(__name__)
 
@@ -29,14 +28,14 @@ class Simulation:
 
     ``step()`` advances the robot's base, joints, battery and motor heat, the physics and the
     people's timeline by one scenario step and returns the social events that fell due. A
-    line a person says comes once they have finished saying it (people talk at the robot's
-    own pace, :func:`app.sim.speech.speech_seconds`), as the robot's microphones hear it
-    (:class:`app.sim.hearing.HeardLine`). An emotion a person shows is on their face
+    line a person says (or words of encouragement) comes once they have finished saying it
+    (people talk at the robot's own pace, :func:`app.sim.speech.speech_seconds`), as the
+    robot's microphones record it (:class:`app.sim.hearing.Sound`, none when too faint;
+    :mod:`app.sim.household_sound`). An emotion a person shows is on their face
     (:meth:`World.show_emotion`), for the camera to see. With ``camera_helper`` a second
     process renders part of each camera frame (:class:`app.sim.split_render.SplitRenderer`;
-    for a run with two cores). With ``voices_dir`` every line a person says is spoken in their voice
-    (:func:`app.sim.scenario.voice_of`) into ``voices_dir/line-NNNN.wav``, NNNN the line's
-    number (:attr:`HeardLine.line`).
+    for a run with two cores). With ``voices_dir`` each recording is also written to
+    ``voices_dir/line-NNNN.wav``, NNNN the line's number (:attr:`Sound.line`).
     """
 
     def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None,
@@ -56,11 +55,10 @@ class Simulation:
         self.world.pass_through(self.robot.body_id)
         self.robot.set_lighting(self.world.light.camera_kwargs())
         self.robot.set_battery(scenario.robot.battery)
-        self.microphones = Microphones(self.robot.cfg.microphones, scenario.seed)
         self.reactions = Reactions(scenario)
-        self.voices_dir = voices_dir
         if voices_dir is not None:
             voices_dir.mkdir(parents=True, exist_ok=True)
+        self.sound = HouseholdSound(scenario, self.world, self.robot, voices_dir)
         if camera_helper:
             try:
                 self.robot.renderer = SplitRenderer(self.client, self.world, scenario,
@@ -68,29 +66,32 @@ class Simulation:
                                                     self.robot.cfg.camera.helper_share)
             except OSError as exc:   # no processes to spare: the frames are drawn here
                 log.warning("no camera helper (%s); frames are drawn in one process", exc)
-        self._speaking: list[tuple[float, SayEvent]] = []   # (when it ends, the line)
+        self._speaking: list[tuple[float, SayEvent, str]] = []   # (when it ends, line, kind)
 
     @classmethod
     def from_file(cls, path: str | Path, gui: bool = False) -> Simulation:
         """Load and validate the scenario at ``path`` and build it."""
         return cls(load_scenario(path), gui=gui)
 
-    def step(self) -> list[SocialEvent | HeardLine]:
+    def step(self) -> list[SocialEvent | Sound]:
         """Advance everything by one scenario step; the social events due in it (lines
-        said as heard)."""
+        said as recorded)."""
         t_next = (self.steps + 1) * self.dt
-        events: list[SocialEvent | HeardLine] = []
+        events: list[SocialEvent | Sound] = []
         x, y, _ = self.robot.pose()
         said = self.world.advance(self.t, t_next) + self.reactions.react(t_next, self.world, (x, y))
         for e in said:
             if isinstance(e, SayEvent):
-                self._speaking.append((e.t + speech_seconds(e.text), e))
-            elif isinstance(e, EmotionEvent):     # on their face, for the camera to see
+                self._speak(e, "say")
+            elif isinstance(e, EncourageEvent):
+                self._speak(SayEvent(e.t, e.person, e.text), "encourage")
+            elif isinstance(e, EmotionEvent):
                 self.world.show_emotion(e.person, e.emotion)
             else:
                 events.append(e)
-        events += [self._hear(e) for end, e in self._speaking if end <= t_next + 1e-9]
-        self._speaking = [(end, e) for end, e in self._speaking if end > t_next + 1e-9]
+        done = [(e, kind) for end, e, kind in self._speaking if end <= t_next + 1e-9]
+        self._speaking = [s for s in self._speaking if s[0] > t_next + 1e-9]
+        events += [sound for e, kind in done if (sound := self.sound.record(e, kind))]
         self.robot.step(self.dt)
         p.stepSimulation(physicsClientId=self.client)
         self.steps += 1
@@ -102,18 +103,14 @@ class Simulation:
         :mod:`app.sim.reactions`)."""
         self.reactions.show(self.t, action)
 
-    def _hear(self, event: SayEvent) -> HeardLine:
-        x, y, yaw = self.robot.pose()
-        speaker = self.world.people_positions().get(event.person)
-        at = (speaker.x, speaker.y) if speaker else (x + math.cos(yaw), y + math.sin(yaw))
-        heard = self.microphones.hear(event, (x, y), at)
-        if self.voices_dir is not None:
-            try:
-                samples, rate = synthesise(event.text, voice_of(self.scenario, event.person))
-                write_wav(self.voices_dir / f"line-{heard.line:04d}.wav", samples, rate)
-            except VoiceError as exc:
-                log.warning("%s", exc)
-        return heard
+    def _speak(self, event: SayEvent, kind: str) -> None:
+        self._speaking.append((event.t + speech_seconds(event.text), event, kind))
+
+    def ask_again(self, line: int) -> None:
+        """The robot asked for ``line`` to be said again: its speaker repeats it, if they
+        do that (``repeat_if_asked``)."""
+        if (again := self.sound.asked_again(line, self.t)) is not None:
+            self._speak(again, "repeat")
 
     def stop_helper(self) -> None:
         """Stop the camera's helper process, if any (later frames are drawn in this one)."""

@@ -4,8 +4,8 @@ The run loop is single-threaded and owns PyBullet and the tree; the web server r
 another thread. The two meet only here: the server puts requests on a bounded, thread-safe
 queue (:meth:`RunTablet.say`, :meth:`RunTablet.feedback`); the run drains it once per tick
 before its behaviours tick (a pre-tick handler), so that a typed line or a pressed button
-enters exactly as a heard line does (through the robot's microphones, from just in front
-of it, where the tablet is, into the context's inbox for Sense), and a 👍 / 👎 as a
+enters as a line the robot heard, with its words as typed (touch needs no recognition; into
+the context's inbox for Sense, from in front of the robot, where the tablet is), and a 👍 / 👎 as a
 scenario's feedback event (the same inbox, the same credit rule). Replies come back through
 the dialogue manager's reply hook into the :class:`~app.tablet.replies.ReplyLog` that the
 server waits on; the live view's snapshots are built after a tick, at most
@@ -14,12 +14,12 @@ server waits on; the live view's snapshots are built after a tick, at most
 
 from __future__ import annotations
 
-import math
 import queue
 from dataclasses import dataclass
 from typing import Any
 
-from app.sim.world import FeedbackEvent, SayEvent
+from app.sim.hearing import HeardLine
+from app.sim.world import FeedbackEvent
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import MindView, SnapshotSlot
@@ -109,10 +109,9 @@ class RunTablet:
     def _hear(self, request: Request) -> None:
         sim, ctx = self.run.sim, self.run.ctx
         person = self.config.person
-        x, y, yaw = sim.robot.pose()
-        in_front = (x + 0.5 * math.cos(yaw), y + 0.5 * math.sin(yaw))   # at the chest tablet
-        line = sim.microphones.hear(SayEvent(sim.t, person, request.text, "robot"), (x, y),
-                                    in_front)
+        yaw = sim.robot.pose()[2]          # typed at the chest tablet: the words as given
+        line = HeardLine(sim.sound.microphones.number(), sim.t, person, request.text, "robot",
+                         yaw)
         ctx.dialogue.context.mode = request.mode
         self._mode_line = clean_input(request.text) if request.mode != "auto" else None
         ctx.events.emit("tablet_line", line=line.line, text=request.text, mode=request.mode)
