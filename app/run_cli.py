@@ -133,7 +133,8 @@ def run_command(args: argparse.Namespace) -> int:
             print(f"  INTERRUPTED by {metrics['interrupted_by']} at "
                   f"{metrics['duration_s']:.1f} of {scenario.duration:g} simulated s")
         for key in ("duration_s", "rsr", "mood_positive_share", "preemptions",
-                    "sentences_said", "lines_heard", "lines_answered", "lines_replied",
+                    "sentences_said", "lines_said", "lines_heard", "lines_unclear",
+                    "asked_again", "speech_wer", "lines_answered", "lines_replied",
                     "answer_latency_s_median", "dont_know_answers", "find_people_tries",
                     "find_people_found", "questions_asked", "questions_grounded",
                     "camera_frames", "wall_s", "peak_rss_mb"):
