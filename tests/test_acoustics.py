@@ -30,7 +30,7 @@ def one_room(**noise) -> Acoustics:
 
 
 def background(a: Acoustics, at: tuple[float, float]) -> float:
-    return 10 * math.log10(sum(10 ** (v / 10) for v in a.noise_levels(at).values()))
+    return a.background_db(at)
 
 
 def test_the_direct_sound_loses_six_decibels_a_doubling_of_distance():

@@ -217,6 +217,10 @@ class Acoustics:
                 programme += 10 ** ((r.noise.source_db + reverberant) / 10)
         return {"steady": _level(steady), "programme": _level(programme)}
 
+    def background_db(self, at: Point) -> float:
+        """The whole background at ``at`` (dB SPL): every kind of :meth:`noise_levels`."""
+        return _level(sum(10 ** (v / 10) for v in self.noise_levels(at).values()))
+
     def speech_db(self, speaker: Point, listener: Point) -> float:
         """The level (dB SPL) a voice at ``speaker`` has at ``listener``, all paths."""
         direct, reverberant, _ = self.paths(speaker, listener)

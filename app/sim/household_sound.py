@@ -75,8 +75,7 @@ class HouseholdSound:
         speaker = self.world.people_positions().get(event.person)
         at = (speaker.x, speaker.y) if speaker else here
         level = self.acoustics.speech_db(at, here)
-        noise = self.acoustics.noise_levels(here)
-        background = 10 * np.log10(sum(10 ** (v / 10) for v in noise.values()))
+        background = self.acoustics.background_db(here)
         audible = level >= background - self.microphones.cfg.audible_below_noise_db
         self.said.append({"line": line, "person": event.person, "to": event.to, "how": kind,
                           "text": event.text, "level_db": round(level, 1),

@@ -11,6 +11,11 @@ from app.core.config_files import StrictModel, load_model
 from app.core.paths import REPO_ROOT
 
 
+def from_root(path: Path) -> Path:
+    """A configured path: relative ones are taken from the repository root."""
+    return path if path.is_absolute() else REPO_ROOT / path
+
+
 class SpeechModelConfig(StrictModel):
     """The model files the recogniser loads and pocketsphinx's language weight."""
 
@@ -20,7 +25,7 @@ class SpeechModelConfig(StrictModel):
 
     def path(self, name: Path) -> Path:
         """``name`` from the repository root unless absolute."""
-        return name if name.is_absolute() else REPO_ROOT / name
+        return from_root(name)
 
 
 class SourceWeights(StrictModel):
@@ -43,8 +48,8 @@ class SpeechTrainConfig(StrictModel):
     min_count: float = Field(ge=0)
 
     def resolved(self, folder: Path | None) -> Path | None:
-        """``folder`` from the repository root unless absolute."""
-        return folder if folder is None or folder.is_absolute() else REPO_ROOT / folder
+        """``folder`` from the repository root unless absolute (None stays None)."""
+        return None if folder is None else from_root(folder)
 
 
 class SpeechConfig(StrictModel):
