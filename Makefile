@@ -6,16 +6,25 @@ STAMP  := $(VENV)/.installed
 OUT    ?= runs/demo
 WORLD  ?= worlds/living_room.yaml
 WORDNET := /usr/share/wordnet/data.noun
+SPHINXTRAIN := /usr/lib/sphinxtrain/map_adapt
 SUDO   := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: setup browser demo test lint bench snapshots clean
 
-setup: $(STAMP) $(WORDNET) browser
+setup: $(STAMP) $(WORDNET) $(SPHINXTRAIN) browser
 
 # WordNet 3.0 (Debian's wordnet-base) answers the robot's everyday questions, read in place.
 $(WORDNET):
 	$(SUDO) apt-get update -qq
 	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends wordnet-base
+
+# Adapting the speech recogniser's acoustic model (`companion train asr`, its tests) takes
+# SphinxTrain's bw and map_adapt, sphinxbase's sphinx_fe and pocketsphinx's mdef converter,
+# from Debian's packages; recognising speech needs none of them.
+$(SPHINXTRAIN):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends \
+	  sphinxtrain sphinxbase-utils pocketsphinx
 
 # The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
 # its driver: Debian's chromium and chromium-driver (and a colour emoji font for the pages'

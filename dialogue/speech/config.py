@@ -4,8 +4,9 @@ how the household language model is estimated."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Self
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import REPO_ROOT
@@ -21,6 +22,7 @@ class SpeechModelConfig(StrictModel):
 
     language_model: Path
     dictionary: Path
+    acoustic_model: Path | None   # None: the wheel's own en-US model, as it ships
     language_weight: float = Field(gt=0, le=50)
 
     def path(self, name: Path) -> Path:
@@ -52,6 +54,31 @@ class SpeechTrainConfig(StrictModel):
         return None if folder is None else from_root(folder)
 
 
+class SpeechAdaptConfig(StrictModel):
+    """How the acoustic model is adapted to the household (dialogue/speech/training/
+    acoustic.py): how its training lines are said and recorded, and how often re-estimated."""
+
+    max_lines: int | None = Field(ge=1)
+    copies: int = Field(ge=1, le=20)
+    distance_m: tuple[float, float]
+    room_width_m: tuple[float, float]
+    room_depth_m: tuple[float, float]
+    tv_share: float = Field(ge=0, le=1)
+    iterations: int = Field(ge=1, le=5)
+    seed: int = Field(ge=0)
+    sphinxtrain_dir: Path
+
+    @model_validator(mode="after")
+    def _ranges(self) -> Self:
+        for name in ("distance_m", "room_width_m", "room_depth_m"):
+            low, high = getattr(self, name)
+            if not 0 < low <= high:
+                raise ValueError(f"{name}: need 0 < low <= high, got {low}, {high}")
+        if self.room_depth_m[0] < 2.5:
+            raise ValueError("room_depth_m: rooms less than 2.5 m deep leave no room to talk")
+        return self
+
+
 class SpeechConfig(StrictModel):
     """``app/defaults/speech.yaml``."""
 
@@ -60,6 +87,7 @@ class SpeechConfig(StrictModel):
     min_snr_db: float = Field(ge=-20, le=40)
     min_level_db: float = Field(ge=0, le=100)
     train: SpeechTrainConfig
+    adapt: SpeechAdaptConfig
 
 
 def load_speech_config(path: str | Path | None = None) -> SpeechConfig:

@@ -1,10 +1,11 @@
 """The robot's speech recogniser: pocketsphinx on 16 kHz audio from its microphones.
 
-The acoustic model and pronunciation dictionary are the en-US ones inside the pocketsphinx
-wheel; the language model is the household one this project estimates from its own lines
-(dialogue/speech/training/, ``assets/models/speech/``), with its dictionary cut down to the
-model's words. Each sound is decoded as one utterance with the cepstral mean taken over the
-whole of it. A :class:`Transcript` carries the words, a confidence (the hypothesis's
+The acoustic model is the en-US one inside the pocketsphinx wheel, adapted by this project
+to the household's voices and rooms; the language model is the household one this project
+estimates from its own lines (both made by dialogue/speech/training/, in
+``assets/models/speech/``), with the wheel's pronunciation dictionary cut down to its
+words. Each sound is decoded as one utterance with the cepstral mean taken over the whole
+of it. A :class:`Transcript` carries the words, a confidence (the hypothesis's
 posterior probability per word, a geometric mean, so that long and short lines compare) and
 the speech's loudness over the noise, estimated from the signal alone. A sound whose speech
 is too faint (a voice from another room, or lost in the TV) gives no words.
@@ -24,6 +25,8 @@ from dialogue.speech.config import SpeechConfig, load_speech_config
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
+ACOUSTIC_FILES = ("mdef", "means", "variances", "transition_matrices", "sendump", "feat.params",
+                  "noisedict")
 
 
 class SpeechModelError(UserError):
@@ -69,11 +72,12 @@ class SpeechRecognizer:
         self.cfg = cfg or load_speech_config()
         m = self.cfg.model
         lm, words = m.path(m.language_model), m.path(m.dictionary)
-        for path in (lm, words):
+        hmm = (Path(get_model_path()) / "en-us" / "en-us" if m.acoustic_model is None
+               else m.path(m.acoustic_model))
+        for path in (lm, words, *(hmm / name for name in ACOUSTIC_FILES)):
             if not path.is_file():
-                raise SpeechModelError(f"{path}: no such model file (companion train speech "
+                raise SpeechModelError(f"{path}: no such model file (companion train asr "
                                        "makes it)")
-        hmm = Path(get_model_path()) / "en-us" / "en-us"
         # batch CMN: each sound normalised by its own cepstral mean, so that a transcript
         # does not depend on the sounds heard before it
         self.decoder = Decoder(Config(hmm=str(hmm), lm=str(lm), dict=str(words),

@@ -1,5 +1,6 @@
 """Command line of speech recognition: ``companion train asr`` (the household language
-model) and ``companion eval asr`` (word error rate and routing by distance and noise).
+model and the adapted acoustic model) and ``companion eval asr`` (word error rate and
+routing by distance and noise).
 
 Handlers import their heavy modules when called, so that ``companion --help`` stays fast.
 """
@@ -20,10 +21,15 @@ ROUTING_BAR = 0.90      # at 1 and 3 m
 def add_train(sub: argparse._SubParsersAction) -> None:
     """Register ``asr`` under ``companion train``."""
     p = sub.add_parser("asr", help="estimate the household language model of the speech "
-                                   "recogniser from the project's own lines")
+                                   "recogniser and adapt its acoustic model, from the "
+                                   "project's own lines")
     p.add_argument("--config", type=Path, default=None, help="YAML merged over speech.yaml")
     p.add_argument("--out", type=Path, default=MODELS_DIR / "speech",
-                   help="folder for household.lm.bin, household.dict and household.json")
+                   help="folder for household.lm.bin, household.dict, household.json and "
+                        "the adapted acoustic model in acoustic/")
+    p.add_argument("--only", choices=("language", "acoustic"), default=None,
+                   help="make only the language model (seconds) or only the acoustic "
+                        "model (minutes)")
     p.set_defaults(func=run_train)
 
 
@@ -35,24 +41,39 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--limit", type=integer(1), default=None,
                    help="only the first N lines of each held-out file (a quick look)")
     p.add_argument("--seed", type=seed(), default=0, help="where the speakers stand")
+    p.add_argument("--config", type=Path, default=None,
+                   help="YAML merged over speech.yaml (e.g. model: {acoustic_model: null} for "
+                        "the wheel's unadapted acoustic model)")
+    p.add_argument("--unseen-voices", action="store_true",
+                   help="say the lines in four voices no household person has, which the "
+                        "acoustic model's adaptation never heard")
     p.set_defaults(func=run_eval)
 
 
 def run_train(args: argparse.Namespace) -> int:
     """``companion train asr``."""
     from dialogue.speech.config import load_speech_config
-    from dialogue.speech.training.train import train_language_model
+    from dialogue.speech.training.acoustic import adapt_acoustic_model
+    from dialogue.speech.training.train import evaluation_words, train_language_model
 
-    figures = train_language_model(load_speech_config(args.config), args.out)
+    cfg = load_speech_config(args.config)
+    figures: dict[str, object] = {}
+    if args.only != "acoustic":
+        figures["language_model"] = train_language_model(cfg, args.out)
+    if args.only != "language":
+        figures["acoustic_model"] = adapt_acoustic_model(
+            cfg.adapt, evaluation_words(), args.out / "acoustic", progress=print)
     print(json.dumps(figures, indent=2))
     return 0
 
 
 def run_eval(args: argparse.Namespace) -> int:
     """``companion eval asr``: the table, and whether it meets the bars."""
+    from dialogue.speech.config import load_speech_config
     from dialogue.speech.training.evaluate import evaluate_asr
 
-    result = evaluate_asr(args.limit, args.seed)
+    result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
+                          unseen_voices=args.unseen_voices)
     if args.json:
         print(json.dumps(result))
         return 0

@@ -10,7 +10,6 @@ intent lines, the router's accuracy on the transcript against its accuracy on th
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -18,22 +17,25 @@ from dataclasses import dataclass
 import jiwer
 import numpy as np
 
-from app.sim.acoustics import RATE, Acoustics
-from app.sim.layout import Room, RoomNoise
-from app.sim.robot import load_robot_config
+from app.sim.acoustics import RATE
 from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
+from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
 from dialogue.intent import IntentClassifier
+from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
+from dialogue.speech.training.rooms import NOISES, living_room, speaker_at
 from dialogue.speech.words import spoken_words
 
 DISTANCES_M = (1.0, 3.0, 5.0)
-NOISES = ("quiet", "tv")
 VOICES = 4
-ROBOT = (4.0, 1.0)                    # in an 8 x 7 m living room; the TV on the far wall
-TV = (4.0, 6.8)
-TV_DB = 60.0                          # the TV one metre in front of it: a normal volume
+# Voices none of the household's people has, which the acoustic model's adaptation never
+# heard: how the recogniser does with a visitor.
+UNSEEN_VOICES = (Voice(name="en-us", variant="klatt6", pitch=45, speed=130),
+                 Voice(name="en-us", variant="m3", pitch=50, speed=130),
+                 Voice(name="en-us", variant="f3", pitch=65, speed=130),
+                 Voice(name="en-us", variant="klatt5", pitch=55, speed=130))
+ROOM_M = (8.0, 7.0)                   # the living room's width and depth
 
 
 @dataclass
@@ -59,33 +61,28 @@ class Condition:
                 else None}
 
 
-def room(noise: str) -> Acoustics:
-    """The evaluation's living room, quiet or with the TV on."""
-    source = RoomNoise(source="tv", source_db=TV_DB) if noise == "tv" else RoomNoise()
-    lounge = Room(name="lounge", x=(0.0, 8.0), y=(0.0, 7.0), noise=source)
-    return Acoustics(load_robot_config().acoustics, [lounge], [], {"tv": TV})
-
-
 def evaluate_asr(limit: int | None = None, seed: int = 0,
-                 progress: Callable[[str], None] | None = None) -> dict[str, object]:
+                 progress: Callable[[str], None] | None = None,
+                 cfg: SpeechConfig | None = None, unseen_voices: bool = False,
+                 ) -> dict[str, object]:
     """The table of :class:`Condition` rows over the held-out lines (the first ``limit``
-    of each file when given), with the recogniser's speed."""
+    of each file when given), with the recogniser's speed; ``cfg`` chooses the models, and
+    ``unseen_voices`` says the lines in :data:`UNSEEN_VOICES` instead of the people's."""
+    speakers = UNSEEN_VOICES if unseen_voices else PEOPLE_VOICES[:VOICES]
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
-    recogniser, router = SpeechRecognizer(), IntentClassifier.default()
+    recogniser, router = SpeechRecognizer(cfg), IntentClassifier.default()
     rng = np.random.default_rng(seed)
     loops = noise_loops(seed)
-    voices = [synthesise(text, PEOPLE_VOICES[i % VOICES]) for i, (_, text) in enumerate(lines)]
+    voices = [synthesise(text, speakers[i % len(speakers)]) for i, (_, text) in enumerate(lines)]
     rows, decode_s, audio_s = [], 0.0, 0.0
     for noise in NOISES:
-        acoustics = room(noise)
+        acoustics, robot = living_room(*ROOM_M, noise)
         for distance in DISTANCES_M:
             c = Condition(distance, noise, [], [], [], [], [])
             for (label, text), (samples, rate) in zip(lines, voices, strict=True):
-                angle = math.radians(rng.uniform(40, 140))
-                speaker = (ROBOT[0] + distance * math.cos(angle),
-                           ROBOT[1] + distance * math.sin(angle))
-                audio = acoustics.at_microphones(samples, rate, speaker, ROBOT, loops, rng)
+                speaker = speaker_at(robot, distance, rng)
+                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
                 t0 = time.perf_counter()
                 heard = recogniser.transcribe(audio, RATE)
                 decode_s += time.perf_counter() - t0
@@ -99,5 +96,5 @@ def evaluate_asr(limit: int | None = None, seed: int = 0,
             rows.append(c.row())
             if progress is not None:
                 progress(f"{noise} {distance:g} m: {rows[-1]}")
-    return {"rows": rows, "voices": [v.espeak_name for v in PEOPLE_VOICES[:VOICES]],
+    return {"rows": rows, "voices": [v.espeak_name for v in speakers],
             "lines": len(lines), "real_time_factor": round(decode_s / audio_s, 4)}

@@ -47,6 +47,11 @@ def evaluation_lines() -> list[str]:
     return lines
 
 
+def evaluation_words() -> set[tuple[str, ...]]:
+    """The spoken words of every :func:`evaluation_lines` line, which no model may learn."""
+    return {tuple(spoken_words(t)) for t in evaluation_lines()}
+
+
 def train_language_model(cfg: SpeechConfig, out_dir: Path) -> dict[str, object]:
     """Build the corpus, estimate the model and write ``out_dir/household.lm.bin``,
     ``household.dict`` and ``household.json`` (the training figures for the model card)."""
@@ -55,7 +60,7 @@ def train_language_model(cfg: SpeechConfig, out_dir: Path) -> dict[str, object]:
 
     entries = full_dictionary()
     corpus = build_corpus(cfg.train, set(entries))
-    held_out = {tuple(spoken_words(t)) for t in evaluation_lines()}
+    held_out = evaluation_words()
     left_out = 0
     for name, sentences in corpus.sources.items():
         corpus.sources[name] = [s for s in sentences if tuple(s) not in held_out]

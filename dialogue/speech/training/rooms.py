@@ -1,0 +1,31 @@
+"""The rooms speech is said in when the recogniser is adapted and evaluated: a living room
+of a given size, quiet or with the TV on at the far wall, the robot near the other wall."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from app.sim.acoustics import Acoustics, Point
+from app.sim.layout import Room, RoomNoise
+from app.sim.robot import load_robot_config
+
+TV_DB = 60.0              # the TV one metre in front of it: a normal volume
+ROBOT_FROM_WALL_M = 1.0   # the robot stands this far from the near wall, in the middle
+NOISES = ("quiet", "tv")
+
+
+def living_room(width: float, depth: float, noise: str) -> tuple[Acoustics, Point]:
+    """The room's acoustics and where the robot stands in it."""
+    source = RoomNoise(source="tv", source_db=TV_DB) if noise == "tv" else RoomNoise()
+    lounge = Room(name="lounge", x=(0.0, width), y=(0.0, depth), noise=source)
+    tv = (width / 2, depth - 0.2)
+    return (Acoustics(load_robot_config().acoustics, [lounge], [], {"tv": tv}),
+            (width / 2, ROBOT_FROM_WALL_M))
+
+
+def speaker_at(robot: Point, distance: float, rng: np.random.Generator) -> Point:
+    """A place ``distance`` m in front of the robot, 40-140 degrees off the near wall."""
+    angle = math.radians(rng.uniform(40, 140))
+    return robot[0] + distance * math.cos(angle), robot[1] + distance * math.sin(angle)

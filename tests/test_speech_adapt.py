@@ -1,0 +1,87 @@
+"""Adapting the acoustic model: the wheel's packed mixture weights read back, a small
+adaptation run with SphinxTrain's real tools, and the recogniser loading its result."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pocketsphinx import get_model_path
+from test_speech_recognition import recorded
+
+from dialogue.speech.config import SpeechConfig, load_speech_config
+from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
+from dialogue.speech.training.acoustic import adapt_acoustic_model, adaptation_lines
+from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
+from dialogue.speech.words import spoken_words
+
+WHEEL = Path(get_model_path()) / "en-us" / "en-us"
+
+
+def test_the_wheels_mixture_weights_are_distributions_per_senone_and_stream():
+    weights = read_sendump(WHEEL / "sendump")
+    assert weights.shape == (5126, 3, 128)
+    assert np.allclose(weights.sum(axis=2), 1.0)
+
+
+def test_mixture_weights_written_and_packed_again_read_back_the_same(tmp_path):
+    cfg = load_speech_config().adapt
+    weights = read_sendump(WHEEL / "sendump")
+    write_s3_array(tmp_path / "mixture_weights", weights)
+    subprocess.run(["pocketsphinx_mdef_convert", "-text", str(WHEEL / "mdef"),
+                    str(tmp_path / "mdef.txt")], check=True, capture_output=True)
+    subprocess.run([str(cfg.sphinxtrain_dir / "mk_s2sendump"), "-pocketsphinx", "yes",
+                    "-moddeffn", str(tmp_path / "mdef.txt"),
+                    "-mixwfn", str(tmp_path / "mixture_weights"),
+                    "-sendumpfn", str(tmp_path / "sendump")], check=True, capture_output=True)
+    again = read_sendump(tmp_path / "sendump")
+    big = weights > 1e-3   # quantisation: 1024 steps of log base 1.0001, about 11 % apart
+    assert np.allclose(np.log(again[big]), np.log(weights[big]), atol=0.11)
+
+
+def test_evaluation_lines_are_never_adaptation_lines():
+    assert adaptation_lines(set(), set()) == []   # a dictionary without words passes none
+    everything = adaptation_lines(set(), _dictionary())
+    first = tuple(everything[0])
+    assert first not in map(tuple, adaptation_lines({first}, _dictionary()))
+
+
+def _dictionary() -> set[str]:
+    text = (WHEEL.parent / "cmudict-en-us.dict").read_text()
+    return {line.split(maxsplit=1)[0] for line in text.splitlines() if line}
+
+
+def with_acoustic_model(folder: Path) -> SpeechConfig:
+    cfg = load_speech_config()
+    return cfg.model_copy(update={"model": cfg.model.model_copy(
+        update={"acoustic_model": folder})})
+
+
+@pytest.fixture(scope="module")
+def adapted(tmp_path_factory) -> Path:
+    cfg = load_speech_config().adapt.model_copy(update={"max_lines": 40, "copies": 1,
+                                                        "iterations": 1})
+    out = tmp_path_factory.mktemp("acoustic")
+    figures = adapt_acoustic_model(cfg, set(), out)
+    assert figures["recordings"] == 40
+    return out
+
+
+def test_a_small_adaptation_moves_the_model_and_the_recogniser_loads_it(adapted):
+    for name in ACOUSTIC_FILES:
+        assert (adapted / name).is_file()
+    assert (adapted / "means").read_bytes() != (WHEEL / "means").read_bytes()
+    cfg = with_acoustic_model(adapted)
+    text = "what time is it"
+    heard = SpeechRecognizer(cfg).transcribe(recorded(text))
+    assert heard.text.split() == spoken_words(text)
+
+
+def test_a_missing_acoustic_model_file_is_a_clear_error(adapted, tmp_path):
+    for name in ACOUSTIC_FILES[:-1]:
+        (tmp_path / name).write_bytes((adapted / name).read_bytes())
+    cfg = with_acoustic_model(tmp_path)
+    with pytest.raises(SpeechModelError, match="noisedict"):
+        SpeechRecognizer(cfg)
