@@ -304,7 +304,8 @@ def test_cli_trains_exports_and_measures(tmp_path):
     assert 0 <= metrics["decodings"]["beam"]["generic_share"] <= 1
     data = load_chat_data(load_chat_config(tmp_path / "c.yaml").data)
     stored = ChitChatModel.load(tmp_path / "models" / "chat.pt").config["data"]
-    pool = read_pool(pool_path(tmp_path / "models" / "chat.pt"), stored)  # exported beside
+    pool = read_pool(pool_path(tmp_path / "models" / "chat.pt"), stored,  # exported beside
+                     tmp_path / "p").pairs
     assert pool == data.splits["train"]
     assert not {src for src, _ in pool} & {src for src, _ in data.splits["test"]}
     assert next(iter(batches([], Vocab.build([], 1), 4)), None) is None

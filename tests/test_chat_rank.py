@@ -1,23 +1,29 @@
 """Chit-chat reply ranking: generic replies lose to relevant ones, the retrieval pool holds
-training pairs only, the ranking's config is validated, and follow-ups name the person again.
+training pairs only and reads their text in place (changed or missing data left out), the
+ranking's config is validated, and follow-ups name the person again.
 
 The ranking runs on a small untrained network (its log-probabilities are nearly flat), so
 the outcomes come from retrieval, relevance and the generic penalty of the shipped weights.
 """
 
+import importlib.util
+import logging
+import re
 from pathlib import Path
 
 import pytest
 import torch
+from test_chat_model import write_corpus
 
 from app.core.config_files import ConfigError
 from dialogue.chat.config import DEFAULT_CHAT_MODEL, ChatDataConfig, load_chat_config
 from dialogue.chat.follow_up import resolve
-from dialogue.chat.model import ChitChatModel, read_chat_file
+from dialogue.chat.model import ChitChatModel, read_chat_file, save_chat_model
 from dialogue.chat.pool import ChatPoolError, pool_path, read_pool, write_pool
 from dialogue.chat.rank import ReplyRanker, generic_replies, generic_share
 from dialogue.chat.seq2seq import Seq2Seq
 from dialogue.chat.text import tokenize
+from dialogue.chat.training.data import ChatData, load_chat_data
 from dialogue.manager import DialogueContext
 from textnets.vocab import Vocab
 
@@ -102,29 +108,81 @@ def test_follow_up_borrows_the_topic_of_the_previous_line():
     assert model.reply("Do you like trains?", ctx) != first  # not the same reply twice
 
 
-def test_pool_checks_its_data(tmp_path):
-    data = {"seed": 0}
-    write_pool(tmp_path / "m.pool.jsonl", pairs(), data)
-    assert read_pool(tmp_path / "m.pool.jsonl", data) == pairs()
+def corpus_model(tmp_path: Path) -> tuple[Path, ChatData]:
+    """A model file of an untrained network with its pool, built from a small Papaya-format
+    corpus (and the chatterbot-corpus package when it is installed)."""
+    cfg = load_chat_config()
+    data_cfg = cfg.data.model_copy(update={
+        "papaya_dir": write_corpus(tmp_path / "papaya", n_convs=20), "min_count": 1,
+        "chatterbot": importlib.util.find_spec("chatterbot_corpus") is not None})
+    data = load_chat_data(data_cfg)
+    vocab = Vocab.build([side for pair in data.splits["train"] for side in pair], 1)
+    torch.manual_seed(0)
+    small = cfg.model.model_copy(update={"embedding": 16, "hidden": 24})
+    plain = cfg.model_copy(update={"data": data_cfg, "model": small}).model_dump(mode="json")
+    path = tmp_path / "models" / "chat.pt"
+    path.parent.mkdir()
+    save_chat_model(path, Seq2Seq(len(vocab), small), vocab, plain, {})
+    write_pool(pool_path(path), data.splits["train"], data.refs["train"], plain["data"])
+    return path, data
+
+
+def test_pool_holds_references_and_reads_the_training_split(tmp_path):
+    path, data = corpus_model(tmp_path)
+    stored, folder = read_chat_file(path)["config"]["data"], tmp_path / "papaya"
+    header, *rows = pool_path(path).read_text().splitlines()
+    assert len(rows) == len(data.splits["train"]) and "_func_val" not in header
+    assert all(re.fullmatch(r'\["(papaya|chatterbot)", "[\w.]+", \d+, \d+, "[0-9a-f]{16}"\]', row)
+               for row in rows)  # where each pair lies, never its text
+    pool = read_pool(pool_path(path), stored, folder)
+    assert pool.pairs == data.splits["train"] and pool.left_out == 0
     with pytest.raises(ChatPoolError, match="other data"):
-        read_pool(tmp_path / "m.pool.jsonl", {"seed": 1})
+        read_pool(pool_path(path), {**stored, "seed": 1}, folder)
     (tmp_path / "bad.pool.jsonl").write_text("{not json\n")
     with pytest.raises(ChatPoolError, match="not a readable"):
-        read_pool(tmp_path / "bad.pool.jsonl", data)
+        read_pool(tmp_path / "bad.pool.jsonl", stored, folder)
     assert pool_path(Path("a/chat.pt")) == Path("a/chat.pool.jsonl")
+
+
+def test_a_changed_data_line_is_left_out(tmp_path, caplog):
+    path, data = corpus_model(tmp_path)
+    i, (_, name, _, answer) = next((i, ref) for i, ref in enumerate(data.refs["train"])
+                                   if ref[0] == "papaya")
+    papaya = tmp_path / "papaya" / name
+    lines = papaya.read_text().splitlines()
+    lines[answer] = "A: Something else entirely ."
+    papaya.write_text("\n".join(lines) + "\n")
+    with caplog.at_level(logging.WARNING, logger="companion.chat"):
+        model = ChitChatModel.load(path)
+    assert model.ranker.pool == data.splits["train"][:i] + data.splits["train"][i + 1:]
+    assert [r.getMessage() for r in caplog.records if "left out" in r.getMessage()] == [
+        f"{pool_path(path)}: 1 of {len(data.splits['train'])} retrieval pairs left out, their "
+        f"data is missing or changed (Papaya folder {tmp_path / 'papaya'}, chatterbot-corpus "
+        f"package); {len(data.splits['train']) - 1} remain"]
+
+
+def test_without_the_papaya_folder_chit_chat_still_answers(tmp_path, caplog):
+    path, data = corpus_model(tmp_path)
+    with caplog.at_level(logging.WARNING, logger="companion.chat"):
+        model = ChitChatModel.load(path, papaya_dir=tmp_path / "absent")
+    kept = [p for p, ref in zip(data.splits["train"], data.refs["train"], strict=True)
+            if ref[0] == "chatterbot"]
+    assert model.ranker.pool == kept
+    assert len(caplog.records) == 1 and "left out" in caplog.records[0].getMessage()
+    assert model.reply("Do you like music?")
+    assert ChitChatModel.load(path).ranker.pool == data.splits["train"]  # its own folder
 
 
 def test_shipped_pool_is_the_training_split_only():
     pytest.importorskip("chatterbot_corpus")
-    from dialogue.chat.training.data import load_chat_data
-
     data_cfg = read_chat_file(DEFAULT_CHAT_MODEL)["config"]["data"]
-    if not ChatDataConfig(**data_cfg).resolved_papaya().is_dir():
+    papaya = ChatDataConfig(**data_cfg).resolved_papaya()
+    if not papaya.is_dir():
         pytest.skip("Papaya data not present")
     splits = load_chat_data(ChatDataConfig(**data_cfg)).splits
-    pool = read_pool(pool_path(DEFAULT_CHAT_MODEL), data_cfg)
-    assert pool == splits["train"]
-    inputs = {src for src, _ in pool}
+    pool = read_pool(pool_path(DEFAULT_CHAT_MODEL), data_cfg, papaya)
+    assert pool.pairs == splits["train"] and pool.left_out == 0
+    inputs = {src for src, _ in pool.pairs}
     held_out = [src for name in ("valid", "test") for src, _ in splits[name]]
     assert held_out and not any(src in inputs for src in held_out)
 

@@ -17,6 +17,7 @@ from app.core.checkpoint import atomic_torch_save, read_weights
 from app.core.errors import UserError
 from app.core.torch_threads import torch_threads
 from dialogue.chat.config import (
+    ChatDataConfig,
     ChatDecodeConfig,
     ChatFollowUpConfig,
     ChatModelConfig,
@@ -28,7 +29,7 @@ from dialogue.chat.follow_up import resolve
 from dialogue.chat.pool import pool_path, read_pool
 from dialogue.chat.rank import ReplyRanker
 from dialogue.chat.seq2seq import Seq2Seq
-from dialogue.chat.text import detokenize, tokenize
+from dialogue.chat.text import Pair, detokenize, tokenize
 from textnets.vocab import UNK_ID, Vocab
 
 FORMAT = "companion-chat-1"
@@ -91,10 +92,14 @@ class ChitChatModel:
 
     @classmethod
     def load(cls, path: str | Path, rank: ChatRankConfig | None = None,
-             follow_up: ChatFollowUpConfig | None = None, **decode: Any) -> ChitChatModel:
+             follow_up: ChatFollowUpConfig | None = None, papaya_dir: Path | None = None,
+             **decode: Any) -> ChitChatModel:
         """Load a model file and the retrieval pool beside it; ``rank`` and ``follow_up``
         default to ``app/defaults/chat.yaml``'s, keyword arguments override the file's
-        decoding settings. Without a pool the ranking keeps to the beam's candidates."""
+        decoding settings. The pool's texts are read in place from ``papaya_dir`` (default:
+        the Papaya folder of the data config stored in the model, from the repository root)
+        and the chatterbot-corpus package. Without a pool the ranking keeps to the beam's
+        candidates; pairs whose data is missing or changed are left out, with one warning."""
         blob = read_chat_file(path)
         try:
             vocab = Vocab(blob["vocab"])
@@ -102,6 +107,7 @@ class ChitChatModel:
             net = Seq2Seq(len(vocab), ChatModelConfig(**cfg["model"]))
             dec = ChatDecodeConfig(**{**cfg["decode"], **decode})
             max_len = int(cfg["data"]["max_len"])
+            data_cfg = ChatDataConfig(**cfg["data"])
             net.load_state_dict(blob["state_dict"])
         except Exception as exc:
             raise ChatModelError(f"{path}: invalid or inconsistent model file ({exc})") from None
@@ -110,11 +116,9 @@ class ChitChatModel:
             rank, follow_up = rank or defaults.rank, follow_up or defaults.follow_up
         ranker = None
         if rank.enabled:
-            pool_file = pool_path(path)
-            pool = read_pool(pool_file, cfg["data"]) if pool_file.is_file() else []
-            if not pool:
-                log.warning("%s: no retrieval pool; replies come from the beam alone", pool_file)
-            ranker = ReplyRanker(net, vocab, pool, rank, dec)
+            folder = papaya_dir if papaya_dir is not None else data_cfg.resolved_papaya()
+            ranker = ReplyRanker(net, vocab, _pool(pool_path(path), cfg["data"], folder), rank,
+                                 dec)
         return cls(net, vocab, dec, max_len, blob.get("meta"), cfg, ranker=ranker,
                    follow_up=follow_up)
 
@@ -150,3 +154,17 @@ class ChitChatModel:
         replies = [detokenize(c.tokens) for c in ranked]
         fresh = [r for r in replies if r not in said.robot_said]  # not the same reply again
         return (fresh or replies or [FALLBACK])[0]
+
+
+def _pool(pool_file: Path, data_config: dict[str, Any], papaya_dir: Path | None) -> list[Pair]:
+    """The retrieval pairs beside a model whose data is still as in training (one warning
+    for those left out, or for a missing pool)."""
+    if not pool_file.is_file():
+        log.warning("%s: no retrieval pool; replies come from the beam alone", pool_file)
+        return []
+    pool = read_pool(pool_file, data_config, papaya_dir)
+    if pool.left_out:
+        log.warning("%s: %d of %d retrieval pairs left out, their data is missing or changed "
+                    "(Papaya folder %s, chatterbot-corpus package); %d remain", pool_file,
+                    pool.left_out, pool.total, papaya_dir, len(pool.pairs))
+    return pool.pairs

@@ -7,7 +7,7 @@ likely after every input. Here the candidates are
 * the ``beam_candidates`` best finished beam replies, and
 * the replies of the ``retrieve`` training pairs whose inputs are most similar to the line
   (TF-IDF cosine over words, at least ``min_similarity``), from the pool shipped beside the
-  model (:mod:`dialogue.chat.pool`: training pairs only),
+  model (:mod:`dialogue.chat.pool`: training pairs only, read in place),
 
 and each scores ``model * log p(reply | line) / tokens ** length_penalty`` (the decoding's
 length penalty, ``<eos>`` counted: the beam's own scores, and the retrieved replies teacher

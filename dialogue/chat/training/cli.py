@@ -39,8 +39,9 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_train)
     p = sub.add_parser("chat-pool", help="rebuild the retrieval pool beside a chit-chat model",
-                       description="Write MODEL's training pairs, rebuilt from the data config "
-                       "stored in it, to the retrieval pool beside it (chat.pool.jsonl).")
+                       description="Write where MODEL's training pairs lie in the data (rebuilt "
+                       "from the data config stored in it) to the retrieval pool beside it "
+                       "(chat.pool.jsonl): references and hashes, not the text.")
     p.add_argument("--model", type=Path, default=DEFAULT_CHAT_MODEL, help="model file")
     p.set_defaults(func=run_pool)
 
@@ -86,9 +87,9 @@ def run_pool(args: argparse.Namespace) -> int:
     from dialogue.chat.training.data import load_chat_data
 
     data_cfg = read_chat_file(args.model)["config"]["data"]
-    pairs = load_chat_data(ChatDataConfig(**data_cfg)).splits["train"]
-    write_pool(pool_path(args.model), pairs, data_cfg)
-    print(f"{pool_path(args.model)}: {len(pairs)} training pairs")
+    data = load_chat_data(ChatDataConfig(**data_cfg))
+    write_pool(pool_path(args.model), data.splits["train"], data.refs["train"], data_cfg)
+    print(f"{pool_path(args.model)}: {len(data.splits['train'])} training pairs")
     return 0
 
 

@@ -73,7 +73,7 @@ def train(cfg: ChatConfig, out_dir: Path, resume: bool = False, progress: bool =
         best, sums = state["best"], list(state["sums"])
     else:
         (out_dir / "data_counts.json").write_text(json.dumps(data.counts, indent=2))
-        write_pool(pool_path(model_path), train_pairs, plain_cfg["data"])
+        write_pool(pool_path(model_path), train_pairs, data.refs["train"], plain_cfg["data"])
     # on resume, the logs keep their rows up to the checkpoint
     folder.open_log(eval_path.name, EVAL_FIELDS, keep=lambda r: int(r[0]) <= epoch).close()
     log_file = folder.open_log("train_log.csv", TRAIN_FIELDS, keep=lambda r: int(r[1]) <= step)
