@@ -23,6 +23,7 @@ from dialogue.chat.batch import batches, make_batch
 from dialogue.chat.config import ChatConfig, load_chat_config
 from dialogue.chat.decode import banned_ngram_tokens
 from dialogue.chat.model import ChatModelError, ChitChatModel
+from dialogue.chat.pool import pool_path, read_pool
 from dialogue.chat.seq2seq import Seq2Seq
 from dialogue.chat.text import detokenize, tokenize
 from dialogue.chat.training.cli import METRIC_KEYS, chat_metrics, run_train
@@ -297,7 +298,16 @@ def test_cli_trains_exports_and_measures(tmp_path):
     metrics = chat_metrics(tmp_path / "models" / "chat.pt")
     assert set(METRIC_KEYS) <= set(metrics)
     assert metrics["unigram_perplexity"] > 1 and 0 <= metrics["distinct_1"] <= 1
-    assert "| person | reference reply | robot |" in metrics["examples_markdown"]
+    assert "| person | reference reply | beam search alone | ranked (the robot) |" in \
+        metrics["examples_markdown"]
+    assert set(metrics["decodings"]) == {"beam", "ranked"}
+    assert 0 <= metrics["decodings"]["beam"]["generic_share"] <= 1
+    data = load_chat_data(load_chat_config(tmp_path / "c.yaml").data)
+    stored = ChitChatModel.load(tmp_path / "models" / "chat.pt").config["data"]
+    pool = read_pool(pool_path(tmp_path / "models" / "chat.pt"), stored,  # exported beside
+                     tmp_path / "p").pairs
+    assert pool == data.splits["train"]
+    assert not {src for src, _ in pool} & {src for src, _ in data.splits["test"]}
     assert next(iter(batches([], Vocab.build([], 1), 4)), None) is None
 
 

@@ -1,4 +1,5 @@
-"""Schema of ``app/defaults/chat.yaml``: data mix, model sizes, training schedule, decoding.
+"""Schema of ``app/defaults/chat.yaml``: data mix, model sizes, training schedule, decoding,
+reply ranking and follow-ups.
 
 Every number that shapes the chit-chat model lives in that YAML file; a user file given with
 ``companion train chat --config FILE`` is deep-merged over it and unknown keys are errors.
@@ -9,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import MODELS_DIR, REPO_ROOT
@@ -91,13 +92,54 @@ class ChatDecodeConfig(StrictModel):
     seed: int | None = None
 
 
+class ChatRankConfig(StrictModel):
+    """Choosing a reply among beam and retrieved candidates (``dialogue/chat/rank.py``)."""
+
+    enabled: bool
+    retrieve: int = Field(ge=0)
+    min_similarity: float = Field(ge=0, le=1)
+    beam_candidates: int = Field(ge=1)
+    model: float = Field(ge=0)
+    match: float = Field(ge=0)
+    topic: float = Field(ge=0)
+    generic_penalty: float = Field(ge=0)
+    generic: list[str]
+
+    @field_validator("generic")
+    @classmethod
+    def _generic_has_words(cls, generic: list[str]) -> list[str]:
+        empty = [g for g in generic if not any(c.isalnum() for c in g)]
+        if empty:
+            raise ValueError(f"replies without a word: {empty}")
+        return generic
+
+
+class ChatFollowUpConfig(StrictModel):
+    """Lines that refer back to the person's earlier lines (``dialogue/chat/follow_up.py``)."""
+
+    turns: int = Field(ge=0)
+    max_words: int = Field(ge=0)
+    female: list[str]
+    male: list[str]
+
+    @field_validator("female", "male")
+    @classmethod
+    def _single_lower_words(cls, words: list[str]) -> list[str]:
+        bad = [w for w in words if not w.isalpha() or w != w.lower()]
+        if bad:
+            raise ValueError(f"single lower-case words only, not {bad}")
+        return words
+
+
 class ChatConfig(StrictModel):
-    """Everything ``companion train chat`` needs."""
+    """Everything ``companion train chat`` needs, and how the robot picks its replies."""
 
     data: ChatDataConfig
     model: ChatModelConfig
     train: ChatTrainConfig
     decode: ChatDecodeConfig
+    rank: ChatRankConfig
+    follow_up: ChatFollowUpConfig
 
 
 def load_chat_config(path: str | Path | None = None) -> ChatConfig:

@@ -60,9 +60,16 @@ def _step(net: Seq2Seq, last: list[int], state: State, enc_out: torch.Tensor,
     return torch.log_softmax(logits.float(), dim=-1), state
 
 
-@torch.no_grad()
 def beam_search(net: Seq2Seq, src_ids: list[int], cfg: ChatDecodeConfig) -> list[int]:
     """The best reply (ids without ``<bos>``/``<eos>``) by length-normalised beam search."""
+    return beam_hypotheses(net, src_ids, cfg)[0][1]
+
+
+@torch.no_grad()
+def beam_hypotheses(net: Seq2Seq, src_ids: list[int],
+                    cfg: ChatDecodeConfig) -> list[tuple[float, list[int]]]:
+    """Every finished beam reply with its normalised score, best first (the reply ranking
+    takes several of them as candidates)."""
     enc_out, mask, state = _start(net, src_ids)
     hyps: list[list[int]] = [[]]
     scores = torch.zeros(1)
@@ -94,8 +101,8 @@ def beam_search(net: Seq2Seq, src_ids: list[int], cfg: ChatDecodeConfig) -> list
         index = torch.tensor(rows)
         state = (state[0][:, index], state[1][:, index])
     if not finished:
-        return hyps[0]
-    return max(finished, key=lambda f: f[0])[1]
+        return [(float(scores[0]), hyps[0])]
+    return sorted(finished, key=lambda f: -f[0])
 
 
 @torch.no_grad()

@@ -55,17 +55,27 @@ class Seq2Seq(nn.Module):
             h, c = (torch.cat([x[0::2], x[1::2]], dim=-1) for x in (h, c))
         return out, (h.contiguous(), c.contiguous())
 
-    def decode(self, tgt_in: torch.Tensor, state: State, enc_out: torch.Tensor,
+    def attend(self, tgt_in: torch.Tensor, state: State, enc_out: torch.Tensor,
                src_mask: torch.Tensor) -> tuple[torch.Tensor, State, torch.Tensor]:
-        """Logits ``(B, T, V)``, the new state and attention weights ``(B, T, S)``."""
+        """Attentional vectors ``(B, T, E)``, the new state and attention weights
+        ``(B, T, S)``; :meth:`logits` turns the vectors into word scores."""
         dec_out, state = self.decoder(self.drop(self.embed(tgt_in)), state)
         scores = torch.bmm(self.attn(dec_out), enc_out.transpose(1, 2))
         scores = scores.masked_fill(~src_mask[:, None, :], float("-inf"))
         weights = torch.softmax(scores, dim=-1)
         context = torch.bmm(weights, enc_out)
         att = self.drop(torch.tanh(self.combine(torch.cat([context, dec_out], dim=-1))))
-        logits = F.linear(att, self.embed.weight, self.out_bias)
-        return logits, state, weights
+        return att, state, weights
+
+    def logits(self, att: torch.Tensor) -> torch.Tensor:
+        """Word scores of attentional vectors (the tied output layer)."""
+        return F.linear(att, self.embed.weight, self.out_bias)
+
+    def decode(self, tgt_in: torch.Tensor, state: State, enc_out: torch.Tensor,
+               src_mask: torch.Tensor) -> tuple[torch.Tensor, State, torch.Tensor]:
+        """Logits ``(B, T, V)``, the new state and attention weights ``(B, T, S)``."""
+        att, state, weights = self.attend(tgt_in, state, enc_out, src_mask)
+        return self.logits(att), state, weights
 
     def step(self, tok: torch.Tensor, state: State, enc_out: torch.Tensor,
              src_mask: torch.Tensor) -> tuple[torch.Tensor, State]:
@@ -89,8 +99,7 @@ class Seq2Seq(nn.Module):
         weights = torch.softmax(scores.masked_fill(~src_mask, float("-inf")), dim=-1)
         context = torch.bmm(weights[:, None, :], enc_out)[:, 0]
         att = torch.tanh(self.combine(torch.cat([context, inp], dim=-1)))
-        return F.linear(att, self.embed.weight, self.out_bias), (torch.stack(hs),
-                                                                 torch.stack(cs))
+        return self.logits(att), (torch.stack(hs), torch.stack(cs))
 
     def forward(self, batch: Batch) -> torch.Tensor:
         """Teacher-forced logits ``(B, T, V)`` for ``batch``."""

@@ -30,6 +30,12 @@ def tokenize(text: str) -> list[str]:
     return [UNK if SLOT.match(t) else t for t in _TOKEN.findall(s)]
 
 
+def pair_tokens(line: str, reply: str) -> Pair:
+    """An (input, reply) text pair as tokens: how training and the retrieval pool alike
+    normalise a pair read from the data."""
+    return tuple(tokenize(line)), tuple(tokenize(reply))
+
+
 def detokenize(tokens: Sequence[str]) -> str:
     """Readable text from tokens: punctuation and clitics glued, sentences capitalised."""
     out, cap = "", True

@@ -13,30 +13,28 @@ form Papaya already has. Pairs without a letter or digit on either side, or long
 first ``data.max_replies_per_input``, further replies to the same normalised utterance.
 Whole conversations are then dealt to test, validation and training (seeded); a held-out
 pair whose utterance also occurs in an earlier split is dropped, so no utterance leaks.
+Files are read through :mod:`dialogue.chat.sources`, and every pair keeps where it lies
+there, for the retrieval pool.
 """
 
 from __future__ import annotations
 
-import re
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from importlib import resources
 from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from app.core.errors import UserError
-from app.core.files import read_text
+from dialogue.chat import sources
 from dialogue.chat.config import ChatDataConfig
-from dialogue.chat.text import Pair, tokenize
+from dialogue.chat.sources import Ref, chatterbot_conversations, papaya_lines, papaya_pair
+from dialogue.chat.text import Pair, pair_tokens
 from textnets.vocab import UNK
 
 SPLITS = ("train", "valid", "test")
-FILE_LIMIT = 64 << 20   # bytes: a Papaya file (the largest shipped one has 87 kB)
-FUNC = re.compile(r"_func_val_\S*")
 
 
 class ChatDataError(UserError):
@@ -45,18 +43,22 @@ class ChatDataError(UserError):
 
 @dataclass
 class Conversation:
-    """The (utterance, reply) pairs of one conversation, still as raw text."""
+    """The (utterance, reply) pairs of one conversation, still as raw text, and where each
+    pair lies (``refs``, parallel to ``pairs``; see :mod:`dialogue.chat.sources`)."""
 
     source: str
     pairs: list[tuple[str, str]] = field(default_factory=list)
+    refs: list[Ref] = field(default_factory=list)
 
 
 @dataclass
 class ChatData:
-    """Tokenised pairs per split and the counts of every filtering step."""
+    """Tokenised pairs per split, where each came from (``refs``, parallel to ``splits``)
+    and the counts of every filtering step."""
 
     splits: dict[str, list[Pair]]
     counts: dict[str, dict[str, int]]
+    refs: dict[str, list[Ref]]
 
 
 def read_papaya(folder: Path) -> list[Conversation]:
@@ -67,29 +69,30 @@ def read_papaya(folder: Path) -> list[Conversation]:
                             "to train without them)")
     convs: list[Conversation] = []
     for path in files:
+        lines = papaya_lines(path)
         conv, question = Conversation(f"papaya/{path.stem}"), None
-        for line in [*read_text(path, FILE_LIMIT).splitlines(), "==="]:
+        for i, line in enumerate([*lines, "==="]):
             line = line.strip()
             if line.startswith("==="):
                 if conv.pairs:
                     convs.append(conv)
                 conv, question = Conversation(f"papaya/{path.stem}"), None
             elif line.startswith("Q:"):
-                question = line[2:]
+                question = i
             elif line.startswith("A:") and question is not None:
-                conv.pairs.append((question, FUNC.sub(" ", line[2:])))
+                conv.pairs.append(papaya_pair(lines[question], line))
+                conv.refs.append(("papaya", path.name, question, i))
                 question = None
     return convs
 
 
 def chatterbot_dir() -> Path:
     """The English folder of the installed ``chatterbot-corpus`` package."""
-    try:
-        root = resources.files("chatterbot_corpus") / "data" / "english"
-    except ModuleNotFoundError:
+    folder = sources.chatterbot_dir()
+    if folder is None:
         raise ChatDataError("the chatterbot-corpus package is not installed (pip install "
-                            "chatterbot-corpus), or set data.chatterbot: false") from None
-    return Path(str(root))
+                            "chatterbot-corpus), or set data.chatterbot: false")
+    return folder
 
 
 def read_chatterbot(exclude: Sequence[str] = ()) -> list[Conversation]:
@@ -98,10 +101,9 @@ def read_chatterbot(exclude: Sequence[str] = ()) -> list[Conversation]:
     for path in sorted(chatterbot_dir().glob("*.yml")):
         if path.stem in exclude:
             continue
-        doc = yaml.safe_load(path.read_text(encoding="utf-8")) or {}
-        for lines in doc.get("conversations") or []:
-            lines = [str(x) for x in lines if x is not None]
-            conv = Conversation(f"chatterbot/{path.stem}", list(pairwise(lines)))
+        for c, lines in enumerate(chatterbot_conversations(path)):
+            conv = Conversation(f"chatterbot/{path.stem}", list(pairwise(lines)),
+                                [("chatterbot", path.name, c, i) for i in range(len(lines) - 1)])
             if conv.pairs:
                 convs.append(conv)
     return convs
@@ -125,13 +127,13 @@ def load_chat_data(cfg: ChatDataConfig) -> ChatData:
     counts: dict[str, Counter] = {}
     seen_pairs: set[Pair] = set()
     replies_per_input: Counter = Counter()
-    kept: list[tuple[int, Pair]] = []
+    kept: list[tuple[int, Pair, Ref]] = []
     for i, conv in enumerate(convs):
         c = counts.setdefault(_source_of(conv.source), Counter())
         c["conversations"] += 1
-        for q, a in conv.pairs:
+        for (q, a), ref in zip(conv.pairs, conv.refs, strict=True):
             c["raw_pairs"] += 1
-            src, tgt = tuple(tokenize(q)), tuple(tokenize(a))
+            src, tgt = pair_tokens(q, a)
             if UNK in tgt or not _has_word(src) or not _has_word(tgt):
                 c["dropped_empty_or_slot"] += 1
             elif len(src) > cfg.max_len or len(tgt) > cfg.max_len:
@@ -143,38 +145,39 @@ def load_chat_data(cfg: ChatDataConfig) -> ChatData:
             else:
                 seen_pairs.add((src, tgt))
                 replies_per_input[src] += 1
-                kept.append((i, (src, tgt)))
+                kept.append((i, (src, tgt), ref))
                 c["kept"] += 1
-    splits = _split(kept, len(convs), cfg, counts)
+    dealt = _split(kept, len(convs), cfg, counts)
     if cfg.max_pairs is not None:
-        splits = {k: v[: max(1, round(cfg.max_pairs * f))]
-                  for (k, v), f in zip(splits.items(), cfg.split, strict=True)}
+        dealt = {k: v[: max(1, round(cfg.max_pairs * f))]
+                 for (k, v), f in zip(dealt.items(), cfg.split, strict=True)}
+    splits = {k: [pair for pair, _ in v] for k, v in dealt.items()}
     total = {k: sum(c.get(k, 0) for c in counts.values())
              for k in sorted({k for c in counts.values() for k in c})}
     out = {name: dict(c) for name, c in counts.items()} | {"total": total}
     out["split"] = {k: len(v) for k, v in splits.items()}
-    return ChatData(splits, out)
+    return ChatData(splits, out, {k: [ref for _, ref in v] for k, v in dealt.items()})
 
 
-def _split(kept: list[tuple[int, Pair]], n_convs: int, cfg: ChatDataConfig,
-           counts: dict[str, Counter]) -> dict[str, list[Pair]]:
+def _split(kept: list[tuple[int, Pair, Ref]], n_convs: int, cfg: ChatDataConfig,
+           counts: dict[str, Counter]) -> dict[str, list[tuple[Pair, Ref]]]:
     """Deal whole conversations to test, then validation, then training (seeded)."""
     order = np.random.default_rng(cfg.seed).permutation(n_convs)
-    per_conv: dict[int, list[Pair]] = {}
-    for i, pair in kept:
-        per_conv.setdefault(i, []).append(pair)
+    per_conv: dict[int, list[tuple[Pair, Ref]]] = {}
+    for i, pair, ref in kept:
+        per_conv.setdefault(i, []).append((pair, ref))
     quota = {"test": cfg.split[2] * len(kept), "valid": cfg.split[1] * len(kept)}
-    splits: dict[str, list[Pair]] = {k: [] for k in SPLITS}
+    splits: dict[str, list[tuple[Pair, Ref]]] = {k: [] for k in SPLITS}
     for i in order:
         name = next((k for k in ("test", "valid") if len(splits[k]) < quota[k]), "train")
         splits[name].extend(per_conv.get(int(i), []))
-    seen = {src for src, _ in splits["train"]}
+    seen = {pair[0] for pair, _ in splits["train"]}
     leaks = Counter()
     for name in ("valid", "test"):
-        clean = [p for p in splits[name] if p[0] not in seen]
+        clean = [item for item in splits[name] if item[0][0] not in seen]
         leaks[f"dropped_leak_{name}"] = len(splits[name]) - len(clean)
         splits[name] = clean
-        seen |= {src for src, _ in clean}
+        seen |= {pair[0] for pair, _ in clean}
     counts["split_leaks"] = leaks
     return {k: splits[k] for k in SPLITS}
 

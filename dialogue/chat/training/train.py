@@ -25,6 +25,7 @@ from app.core.interrupts import stop_point, stop_requests
 from dialogue.chat.batch import batches
 from dialogue.chat.config import ChatConfig
 from dialogue.chat.model import save_chat_model
+from dialogue.chat.pool import pool_path, write_pool
 from dialogue.chat.seq2seq import Seq2Seq
 from dialogue.chat.training.data import ChatDataError, load_chat_data
 from dialogue.chat.training.evaluate import perplexity
@@ -72,6 +73,7 @@ def train(cfg: ChatConfig, out_dir: Path, resume: bool = False, progress: bool =
         best, sums = state["best"], list(state["sums"])
     else:
         (out_dir / "data_counts.json").write_text(json.dumps(data.counts, indent=2))
+        write_pool(pool_path(model_path), train_pairs, data.refs["train"], plain_cfg["data"])
     # on resume, the logs keep their rows up to the checkpoint
     folder.open_log(eval_path.name, EVAL_FIELDS, keep=lambda r: int(r[0]) <= epoch).close()
     log_file = folder.open_log("train_log.csv", TRAIN_FIELDS, keep=lambda r: int(r[1]) <= step)
