@@ -1,0 +1,110 @@
+"""``companion eval mood-style``: what the robot finally says in each mood, on its own lines.
+
+The lines are held out from everything the style model and the gate's language model learnt
+(:func:`dialogue.style.training.conversation.heldout_lines`). Each is said in both moods
+through :class:`dialogue.style.mood.MoodStyler`; per mood the result holds
+
+* ``flip_rate``: share of spoken outputs the judge puts on the mood's side (bar >= 80 %),
+  and ``flip_rate_needed`` among the lines the judge put on the other side before;
+* ``perplexity_ratio``: bigram corpus perplexity of the outputs over that of the unstyled
+  lines (bar <= 1.2), with the median of the per-line ratios;
+* ``content_kept``: mean share of each line's content words the output keeps (bar >= 70 %);
+* ``share``: where the outputs came from (model, fallback, unchanged).
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+from typing import Any
+
+from dialogue.style.mood import MoodReply, MoodStyler
+from dialogue.style.ngram import BigramLM
+from dialogue.style.text import STYLES, tokenize
+from dialogue.style.training.conversation import heldout_lines, training_lines
+from dialogue.style.training.mood_lm import ALL_CONVERSATION
+
+BARS = {"flip_rate": (">=", 0.8), "perplexity_ratio": ("<=", 1.2), "content_kept": (">=", 0.7)}
+
+
+def corpus_perplexity(lm: BigramLM, sentences: list[list[str]]) -> float:
+    """``exp(total NLL / total words)`` with each sentence's end counted as a word."""
+    nll = -sum(lm.logprob(s) for s in sentences)
+    return math.exp(nll / sum(len(s) + 1 for s in sentences))
+
+
+def mood_figures(styler: MoodStyler, lines: list[str], replies: list[MoodReply], mood: str
+                 ) -> dict[str, Any]:
+    """The figures of one mood (module docstring)."""
+    needed = [r for r, s in zip(replies, lines, strict=True)
+              if styler.side(tokenize(s)) != mood]
+    said = [tokenize(r.text) for r in replies]
+    unstyled = [tokenize(s) for s in lines]
+    ratio = corpus_perplexity(styler.lm, said) / corpus_perplexity(styler.lm, unstyled)
+    return {
+        "flip_rate": sum(r.judged == mood for r in replies) / len(replies),
+        "flip_rate_needed": (sum(r.judged == mood for r in needed) / len(needed)
+                             if needed else float("nan")),
+        "needed": len(needed),
+        "perplexity_ratio": ratio,
+        "perplexity_ratio_median": statistics.median(r.perplexity_ratio for r in replies),
+        "content_kept": statistics.fmean(r.content_kept for r in replies),
+        "share": {s: sum(r.source == s for r in replies) / len(replies)
+                  for s in ("model", "fallback", "unchanged")},
+        "refusals": _refusal_kinds(replies),
+    }
+
+
+def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
+    """How often each gate condition refused the model's reply."""
+    kinds = {"judge": "judge", "question": "question", "content": "content words",
+             "perplexity": "perplexity"}
+    counts = dict.fromkeys([*kinds, "not decoded"], 0)
+    for r in replies:
+        if r.source != "fallback":
+            continue
+        kind = next((k for k, w in kinds.items() if w in (r.reason or "")), "not decoded")
+        counts[kind] += 1
+    return counts
+
+
+def evaluate_mood(styler: MoodStyler, limit: int = 500, examples: int = 30) -> dict[str, Any]:
+    """Say ``limit`` held-out robot lines in both moods and score them."""
+    lines = heldout_lines(limit, training_lines(ALL_CONVERSATION))
+    replies = {mood: [styler.style(s, mood) for s in lines] for mood in STYLES}
+    result: dict[str, Any] = {"lines": len(lines)}
+    for mood in STYLES:
+        result[mood] = mood_figures(styler, lines, replies[mood], mood)
+    result["bars_met"] = all(_meets(result[m][k], *BARS[k]) for m in STYLES for k in BARS)
+    result["examples"] = [[s, replies["positive"][i].text, replies["negative"][i].text,
+                           replies["positive"][i].source, replies["negative"][i].source]
+                          for i, s in enumerate(lines[:examples])]
+    return result
+
+
+def _meets(value: float, op: str, bar: float) -> bool:
+    return value >= bar if op == ">=" else value <= bar
+
+
+def format_mood(result: dict[str, Any]) -> str:
+    """Plain-text lines with each mood's figures against the bars."""
+    lines = [f"{result['lines']} held-out robot lines; bars: flip >= 80 %, perplexity ratio "
+             "<= 1.2, content kept >= 70 %"]
+    for mood in STYLES:
+        r = result[mood]
+        share = ", ".join(f"{k} {v * 100:.1f} %" for k, v in r["share"].items())
+        lines.append(f"{mood:8s} flip {r['flip_rate'] * 100:5.1f} % (of the {r['needed']} "
+                     f"that needed it: {r['flip_rate_needed'] * 100:5.1f} %), perplexity ratio "
+                     f"{r['perplexity_ratio']:.3f} (median {r['perplexity_ratio_median']:.3f}), "
+                     f"content kept {r['content_kept'] * 100:5.1f} %; {share}")
+    lines.append("all bars met" if result["bars_met"] else "some bar NOT met")
+    return "\n".join(lines)
+
+
+def examples_table(result: dict[str, Any]) -> str:
+    """A Markdown table of the examples: unstyled, positive and negative output."""
+    rows = ["| Unstyled | Positive mood | Negative mood |", "| --- | --- | --- |"]
+    for s, pos, neg, pos_src, neg_src in result["examples"]:
+        cells = [c.replace("|", "\\|") for c in (s, pos, neg)]
+        rows.append(f"| {cells[0]} | {cells[1]} ({pos_src}) | {cells[2]} ({neg_src}) |")
+    return "\n".join(rows) + "\n"
