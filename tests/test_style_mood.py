@@ -7,10 +7,16 @@ from style_helpers import one_thread
 from app.core.config_files import ConfigError
 from dialogue.style.config import CLASSIFIER_FILE
 from dialogue.style.files import load_classifier
-from dialogue.style.mood import MoodStyler, content_kept, content_words, with_opening
+from dialogue.style.mood import (
+    MoodStyler,
+    content_kept,
+    content_words,
+    with_numbers,
+    with_opening,
+)
 from dialogue.style.mood_config import load_mood_config
 from dialogue.style.ngram import BigramLM, NgramModelError
-from dialogue.style.text import tokenize
+from dialogue.style.text import numbers, tokenize
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
 CORPUS = ["the service was quick and friendly .", "i 'm fine , thank you .",
@@ -87,6 +93,15 @@ def test_the_gate_rejects_lost_content_and_high_perplexity(lm, judge, transfer, 
     assert "question" in gate.refusal(["how", "are", "you", "today", "?"],
                                       ["the", "staff", "were", "rude", "today", "!"], "negative")
     assert "judge" in gate.refusal(source, source, "negative")
+    invented = ["the", "service", "was", "terrible", "and", "_num_", "quick", "friendly", "."]
+    assert "number" in gate.refusal(source, invented, "negative")
+
+
+def test_numbers_come_back_as_written():
+    assert numbers("It's 18:30 on Sunday, 1 June.") == ["18", "30", "1"]   # ":" splits
+    assert tokenize("It's 18:30 on Sunday.")[2:5] == ["_num_", ":", "_num_"]
+    assert with_numbers(["at", "_num_", "and", "_num_", "_num_"], ["18:30", "1"]) == [
+        "at", "18:30", "and", "1", "_num_"]
 
 
 def test_the_fallback_says_the_reply_after_the_moods_opening(lm, judge, transfer, tmp_path):

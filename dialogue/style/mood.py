@@ -32,7 +32,7 @@ from dialogue.style.files import STOPWORDS, load_classifier
 from dialogue.style.mood_config import BIGRAM_FILE, MoodStyleConfig, load_mood_config
 from dialogue.style.nets import SentimentClassifier
 from dialogue.style.ngram import BigramLM
-from dialogue.style.text import STYLES, tokenize
+from dialogue.style.text import NUMBER, STYLES, numbers, tokenize
 from dialogue.style.transfer import StyleTransfer, readable
 from textnets.batch import make_batch
 from textnets.vocab import Vocab
@@ -65,6 +65,12 @@ def content_kept(source: Sequence[str], output: Sequence[str]) -> float:
     """Share of the source's content words that the output has (1.0 when it has none)."""
     content = content_words(source)
     return len(content & set(output)) / len(content) if content else 1.0
+
+
+def with_numbers(words: Sequence[str], written: Sequence[str]) -> list[str]:
+    """The words with each ``_num_`` replaced by the reply's numbers as written, in order."""
+    pending = list(written)
+    return [pending.pop(0) if w == NUMBER and pending else w for w in words]
 
 
 def with_opening(opening: str, text: str) -> str:
@@ -110,6 +116,8 @@ class MoodStyler:
             return "the model wrote nothing"
         if self.side(words) != mood:
             return f"the judge does not find it {mood}"
+        if words.count(NUMBER) > source.count(NUMBER):
+            return "it has a number that the reply does not have"
         if self.cfg.gate.keep_questions and ("?" in source) != ("?" in words):
             return "a question would become a statement, or a statement a question"
         kept = content_kept(source, words)
@@ -132,7 +140,7 @@ class MoodStyler:
             return MoodReply(text, "unchanged", "", None, judged, 1.0, 1.0)
         result = self.transfer.translate_detailed([text], mood)[0]
         words = result.transferred.split()
-        candidate = readable(words, text) if words else ""
+        candidate = readable(with_numbers(words, numbers(text)), text) if words else ""
         why = self.refusal(source, words, mood) if words else result.reason
         if why is None:
             return MoodReply(candidate, "model", candidate, None, mood,

@@ -76,9 +76,10 @@ def evaluate_mood(styler: MoodStyler, limit: int = 500, examples: int = 30) -> d
     for mood in STYLES:
         result[mood] = mood_figures(styler, lines, replies[mood], mood)
     result["bars_met"] = all(_meets(result[m][k], *BARS[k]) for m in STYLES for k in BARS)
-    result["examples"] = [[s, replies["positive"][i].text, replies["negative"][i].text,
+    step = max(1, len(lines) // examples)   # spread over the lines, both kinds
+    result["examples"] = [[lines[i], replies["positive"][i].text, replies["negative"][i].text,
                            replies["positive"][i].source, replies["negative"][i].source]
-                          for i, s in enumerate(lines[:examples])]
+                          for i in range(0, len(lines), step)][:examples]
     return result
 
 

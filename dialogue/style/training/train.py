@@ -55,6 +55,7 @@ class Data:
     ids: dict[str, list[list[int]]]
     extra_ids: list[list[int]] = field(default_factory=list)   # conversational lines
     extra_labels: list[int] = field(default_factory=list)      # ... as the judge labels them
+    fine_tuning: bool = False     # started from a trained model (not a selection candidate)
 
     def transfer_train(self) -> tuple[list[list[int]], list[int]]:
         """The transfer model's training set: Yelp's training split and the conversational
@@ -127,6 +128,7 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
         nets["style"].set_masked([data.vocab.stoi[w] for w in hidden])
     if init is not None:
         start_from(nets["style"], data.vocab, init)
+        data.fine_tuning = True
     run = Run(cfg, out_dir, nets, resume, progress)
     run.folder.use_config(cfg)
     summary_path = out_dir / "summary.json"
@@ -299,8 +301,8 @@ def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
             csv.writer(fh).writerow([at, f"{acc:.4f}", f"{bleu:.2f}", f"{s:.2f}",
                                      int(improved), f"{run.wall():.1f}"])
 
-    if not resumed:
-        evaluate(0)  # the warm-up model competes too
+    if not resumed and not data.fine_tuning:
+        evaluate(0)  # the warm-up model competes too (not the start of a fine-tuning)
     fields = ["style", "rec", "adv", "cycle", "disc", "disc_acc", "tau"]
     run.loop("adversarial", tc.adversarial_steps, step, fields, {"g": g_opt, "d": d_opt},
              {"train": sampler}, extra, evaluate, tc.eval_every)
