@@ -108,7 +108,7 @@ def test_fine_tuning_starts_from_a_model_and_adds_the_robots_lines(trained, tmp_
     summary = json.loads((tmp_path / "tune" / "summary.json").read_text())
     lines = summary["conversation"]["lines"]
     assert lines > 500 and 0 < summary["conversation"]["positive"] < lines
-    assert summary["conversation"]["repeat"] == 2
+    assert summary["conversation"]["repeat"] == 2 and summary["conversation"]["kept"] == lines
     start = torch.load(trained / "models" / "style.pt", weights_only=True)["state_dict"]
     first = torch.load(tmp_path / "tune" / "style.pt", weights_only=True)
     assert first["meta"]["step"] >= 0 and set(first["state_dict"]) == set(start)

@@ -10,7 +10,8 @@ The style-transfer model proposes a styled reply; the gate accepts it only when
     reply's (a language model that knows conversation, :mod:`dialogue.style.ngram`),
 
 and, with ``gate.keep_questions``, a question stays a question ("Where have you been?" must
-not become "Always have you been!": every word of it is a stop word, so (b) cannot see it).
+not become "Always have you been!": every word of it is a stop word, so (b) cannot see it),
+and it has no more numbers than the reply (the model's numbers are put back as written).
 
 Otherwise the robot says the unstyled reply after an opening of the mood ("Sadly, ..."),
 and with a closing of the mood too when no opening alone convinces the judge (both lists

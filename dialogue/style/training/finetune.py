@@ -6,24 +6,43 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import torch
+
 from dialogue.style.config import StyleConfig
 from dialogue.style.files import StyleModelError, load_transfer
 from dialogue.style.model import StyleTransferModel
 from dialogue.style.nets import SentimentClassifier
 from dialogue.style.training.conversation import training_lines
-from dialogue.style.training.metrics import classify
+from textnets.batch import make_batch
 from textnets.vocab import Vocab
+
+
+@torch.no_grad()
+def judged(judge: SentimentClassifier, vocab: Vocab, lines: list[list[str]],
+           batch_size: int = 256) -> list[tuple[int, float]]:
+    """The judge's label of each line and its probability."""
+    judge.eval()
+    out: list[tuple[int, float]] = []
+    for i in range(0, len(lines), batch_size):
+        chunk = lines[i:i + batch_size]
+        probs = judge(make_batch([vocab.encode(s) for s in chunk], [0] * len(chunk))).softmax(1)
+        conf, label = probs.max(1)
+        out += zip(label.tolist(), conf.tolist(), strict=True)
+    return out
 
 
 def conversation_set(cfg: StyleConfig, vocab: Vocab, judge: SentimentClassifier
                      ) -> tuple[list[list[int]], list[int], dict]:
-    """The conversational lines of ``cfg.conversation`` as ids, each ``repeat`` times, their
-    labels by ``judge``, and their counts for the summary."""
-    lines = training_lines(cfg.conversation)
-    labels = classify(judge, vocab, lines) if lines else []
-    n = cfg.conversation.repeat
-    return ([vocab.encode(s) for s in lines] * n, labels * n,
-            {"conversation": {"lines": len(lines), "positive": sum(labels), "repeat": n}})
+    """The conversational lines of ``cfg.conversation`` that the judge labels with at least
+    ``min_confidence``, as ids, each ``repeat`` times; their labels; their counts."""
+    c = cfg.conversation
+    lines = training_lines(c)
+    kept = [(s, y) for s, (y, p) in zip(lines, judged(judge, vocab, lines), strict=True)
+            if p >= c.min_confidence]
+    labels = [y for _, y in kept]
+    return ([vocab.encode(s) for s, _ in kept] * c.repeat, labels * c.repeat,
+            {"conversation": {"lines": len(lines), "kept": len(kept), "positive": sum(labels),
+                              "repeat": c.repeat}})
 
 
 def start_from(model: StyleTransferModel, vocab: Vocab, init: Path) -> None:

@@ -49,16 +49,30 @@ def mood_figures(styler: MoodStyler, lines: list[str], replies: list[MoodReply],
         "perplexity_ratio": ratio,
         "perplexity_ratio_median": statistics.median(r.perplexity_ratio for r in replies),
         "content_kept": statistics.fmean(r.content_kept for r in replies),
+        "changed": _changed(replies),
         "share": {s: sum(r.source == s for r in replies) / len(replies)
                   for s in ("model", "fallback", "unchanged")},
         "refusals": _refusal_kinds(replies),
     }
 
 
+def _changed(replies: list[MoodReply]) -> dict[str, float]:
+    """Median perplexity ratio and mean content kept of the outputs that differ from the
+    unstyled line (the model's and the fallback's), so unchanged lines do not flatter them."""
+    changed = [r for r in replies if r.source != "unchanged"]
+    if not changed:
+        return {"lines": 0}
+    return {"lines": len(changed),
+            "perplexity_ratio_median": statistics.median(r.perplexity_ratio for r in changed),
+            "perplexity_ratio_model_median": statistics.median(
+                [r.perplexity_ratio for r in changed if r.source == "model"] or [float("nan")]),
+            "content_kept": statistics.fmean(r.content_kept for r in changed)}
+
+
 def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
     """How often each gate condition refused the model's reply."""
-    kinds = {"judge": "judge", "question": "question", "content": "content words",
-             "perplexity": "perplexity"}
+    kinds = {"judge": "judge", "question": "question", "number": "number",
+             "content": "content words", "perplexity": "perplexity"}
     counts = dict.fromkeys([*kinds, "not decoded"], 0)
     for r in replies:
         if r.source != "fallback":
@@ -94,10 +108,12 @@ def format_mood(result: dict[str, Any]) -> str:
     for mood in STYLES:
         r = result[mood]
         share = ", ".join(f"{k} {v * 100:.1f} %" for k, v in r["share"].items())
+        changed = r["changed"].get("perplexity_ratio_median", 1.0)
         lines.append(f"{mood:8s} flip {r['flip_rate'] * 100:5.1f} % (of the {r['needed']} "
                      f"that needed it: {r['flip_rate_needed'] * 100:5.1f} %), perplexity ratio "
                      f"{r['perplexity_ratio']:.3f} (median {r['perplexity_ratio_median']:.3f}), "
-                     f"content kept {r['content_kept'] * 100:5.1f} %; {share}")
+                     f"content kept {r['content_kept'] * 100:5.1f} %; {share}; changed lines: "
+                     f"median perplexity ratio {changed:.3f}")
     lines.append("all bars met" if result["bars_met"] else "some bar NOT met")
     return "\n".join(lines)
 
