@@ -9,6 +9,7 @@ from dialogue.style.config import CLASSIFIER_FILE
 from dialogue.style.files import load_classifier
 from dialogue.style.mood import (
     MoodStyler,
+    capital_i,
     content_kept,
     content_words,
     with_numbers,
@@ -118,6 +119,9 @@ def test_the_fallback_says_the_reply_after_the_moods_opening(lm, judge, transfer
     assert unchanged.source == "unchanged" and unchanged.text == "The staff were friendly."
     assert with_opening("Oh no,", "I'm fine.") == "Oh no, I'm fine."
     assert with_opening("Oh no,", "The staff.") == "Oh no, the staff."
+    assert with_opening("Sadly,", "A calendar.") == "Sadly, a calendar."
+    assert with_opening("Sadly,", "Canada is a nation.") == "Sadly, Canada is a nation."
+    assert capital_i("i think i'm fine, said ian.") == "I think I'm fine, said ian."
 
 
 def test_a_closing_joins_the_opening_only_when_no_opening_convinces_the_judge(

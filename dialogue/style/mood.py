@@ -39,6 +39,9 @@ from textnets.batch import make_batch
 from textnets.vocab import Vocab
 
 SOURCES = ("model", "fallback", "unchanged")
+_OPENERS_TEXT = ("yes no okay ok well sure nothing hey sorry thanks thank please oh hmm maybe "
+                 "because good great fine although let let's")
+OPENERS = frozenset(_OPENERS_TEXT.split())   # first words that start no name
 _HAS_LETTER = re.compile(r"[a-z]")
 
 
@@ -75,11 +78,18 @@ def with_numbers(words: Sequence[str], written: Sequence[str]) -> list[str]:
 
 
 def with_opening(opening: str, text: str) -> str:
-    """``text`` after ``opening``, its first letter lowered unless it starts with "I" or an
-    all-capital word (names are rare first words of the robot's replies)."""
-    first = text.split(maxsplit=1)[0] if text.split() else ""
-    keep = first.isupper() or re.match(r"I\b|I'", first) is not None
-    return f"{opening} {text if keep else text[:1].lower() + text[1:]}".strip()
+    """``text`` after ``opening``. Its first word is lowered only when it is a stop word or a
+    common opener ("The", "Yes", "Okay"), never "I": any other capital may start a name."""
+    first = re.sub(r"\W+$", "", text.split(maxsplit=1)[0]) if text.split() else ""
+    lower = first.lower()
+    if (lower in STOPWORDS or lower in OPENERS) and lower != "i" and not lower.startswith("i'"):
+        text = text[:1].lower() + text[1:]
+    return f"{opening} {text}".strip()
+
+
+def capital_i(text: str) -> str:
+    """The pronoun "i" written "I" (the model writes lower case): "i'm" -> "I'm"."""
+    return re.sub(r"\bi\b", "I", text)
 
 
 class MoodStyler:
@@ -141,7 +151,7 @@ class MoodStyler:
             return MoodReply(text, "unchanged", "", None, judged, 1.0, 1.0)
         result = self.transfer.translate_detailed([text], mood)[0]
         words = result.transferred.split()
-        candidate = readable(with_numbers(words, numbers(text)), text) if words else ""
+        candidate = capital_i(readable(with_numbers(words, numbers(text)), text)) if words else ""
         why = self.refusal(source, words, mood) if words else result.reason
         if why is None:
             return MoodReply(candidate, "model", candidate, None, mood,
