@@ -18,7 +18,7 @@ import math
 import statistics
 from typing import Any
 
-from dialogue.style.mood import MoodReply, MoodStyler
+from dialogue.style.mood import MoodReply, MoodStyler, content_kept
 from dialogue.style.ngram import BigramLM
 from dialogue.style.text import STYLES, tokenize
 from dialogue.style.training.conversation import heldout_lines, training_lines
@@ -50,6 +50,7 @@ def mood_figures(styler: MoodStyler, lines: list[str], replies: list[MoodReply],
         "perplexity_ratio_median": statistics.median(r.perplexity_ratio for r in replies),
         "content_kept": statistics.fmean(r.content_kept for r in replies),
         "changed": _changed(replies),
+        "raw_model": _raw(styler, lines, replies, mood),
         "share": {s: sum(r.source == s for r in replies) / len(replies)
                   for s in ("model", "fallback", "unchanged")},
         "refusals": _refusal_kinds(replies),
@@ -67,6 +68,21 @@ def _changed(replies: list[MoodReply]) -> dict[str, float]:
             "perplexity_ratio_model_median": statistics.median(
                 [r.perplexity_ratio for r in changed if r.source == "model"] or [float("nan")]),
             "content_kept": statistics.fmean(r.content_kept for r in changed)}
+
+
+def _raw(styler: MoodStyler, lines: list[str], replies: list[MoodReply], mood: str
+         ) -> dict[str, float]:
+    """The model's own replies, before the gate, on the lines that needed a change and that
+    it decoded: what the robot would say without the gate."""
+    pairs = [(tokenize(s), tokenize(r.candidate)) for s, r in zip(lines, replies, strict=True)
+             if r.source != "unchanged" and r.candidate]
+    if not pairs:
+        return {"lines": 0}
+    return {"lines": len(pairs),
+            "flip_rate": sum(styler.side(b) == mood for _, b in pairs if b) / len(pairs),
+            "content_kept": statistics.fmean(content_kept(a, b) for a, b in pairs),
+            "perplexity_ratio_median": statistics.median(styler.ratio(a, b) for a, b in pairs),
+            "said": sum(r.source == "model" for r in replies) / len(pairs)}
 
 
 def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
@@ -114,6 +130,13 @@ def format_mood(result: dict[str, Any]) -> str:
                      f"{r['perplexity_ratio']:.3f} (median {r['perplexity_ratio_median']:.3f}), "
                      f"content kept {r['content_kept'] * 100:5.1f} %; {share}; changed lines: "
                      f"median perplexity ratio {changed:.3f}")
+        raw = r["raw_model"]
+        if raw["lines"]:
+            lines.append(f"{'':8s} the model alone on the {raw['lines']} it decoded: flip "
+                         f"{raw['flip_rate'] * 100:.1f} %, content kept "
+                         f"{raw['content_kept'] * 100:.1f} %, median perplexity ratio "
+                         f"{raw['perplexity_ratio_median']:.3f}; the gate let "
+                         f"{raw['said'] * 100:.1f} % through")
     lines.append("all bars met" if result["bars_met"] else "some bar NOT met")
     return "\n".join(lines)
 
