@@ -40,7 +40,7 @@ from textnets.vocab import Vocab
 
 SOURCES = ("model", "fallback", "unchanged")
 _OPENERS_TEXT = ("yes no okay ok well sure nothing hey sorry thanks thank please oh hmm maybe "
-                 "because good great fine although let let's")
+                 "because good great fine pretty really although let")
 OPENERS = frozenset(_OPENERS_TEXT.split())   # first words that start no name
 _HAS_LETTER = re.compile(r"[a-z]")
 
@@ -80,9 +80,8 @@ def with_numbers(words: Sequence[str], written: Sequence[str]) -> list[str]:
 def with_opening(opening: str, text: str) -> str:
     """``text`` after ``opening``. Its first word is lowered only when it is a stop word or a
     common opener ("The", "Yes", "Okay"), never "I": any other capital may start a name."""
-    first = re.sub(r"\W+$", "", text.split(maxsplit=1)[0]) if text.split() else ""
-    lower = first.lower()
-    if (lower in STOPWORDS or lower in OPENERS) and lower != "i" and not lower.startswith("i'"):
+    lower = next(iter(tokenize(text)), "")
+    if (lower in STOPWORDS or lower in OPENERS) and lower != "i":
         text = text[:1].lower() + text[1:]
     return f"{opening} {text}".strip()
 
