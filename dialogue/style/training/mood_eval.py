@@ -1,7 +1,8 @@
 """``companion eval mood-style``: what the robot finally says in each mood, on its own lines.
 
 The lines are held out from everything the style model and the gate's language model learnt
-(:func:`dialogue.style.training.conversation.heldout_lines`). Each is said in both moods
+(:func:`dialogue.style.training.conversation.heldout_lines`, less any line that is also a
+Yelp training sentence, such as "Are you serious?"). Each is said in both moods
 through :class:`dialogue.style.mood.MoodStyler`; per mood the result holds
 
 * ``flip_rate``: share of spoken outputs the judge puts on the mood's side (bar >= 80 %),
@@ -18,10 +19,12 @@ import math
 import statistics
 from typing import Any
 
+from dialogue.style.config import load_style_config
 from dialogue.style.mood import MoodReply, MoodStyler, content_kept
 from dialogue.style.ngram import BigramLM
 from dialogue.style.text import STYLES, tokenize
 from dialogue.style.training.conversation import heldout_lines, training_lines
+from dialogue.style.training.data import load_splits
 from dialogue.style.training.mood_lm import ALL_CONVERSATION
 
 BARS = {"flip_rate": (">=", 0.8), "perplexity_ratio": ("<=", 1.2), "content_kept": (">=", 0.7)}
@@ -100,7 +103,8 @@ def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
 
 def evaluate_mood(styler: MoodStyler, limit: int = 500, examples: int = 30) -> dict[str, Any]:
     """Say ``limit`` held-out robot lines in both moods and score them."""
-    lines = heldout_lines(limit, training_lines(ALL_CONVERSATION))
+    yelp = load_splits(load_style_config().data)["train"].sentences
+    lines = heldout_lines(limit, training_lines(ALL_CONVERSATION) + yelp)
     replies = {mood: [styler.style(s, mood) for s in lines] for mood in STYLES}
     result: dict[str, Any] = {"lines": len(lines)}
     for mood in STYLES:
