@@ -1,5 +1,8 @@
 """The mood gate: its bigram language model, the gate's conditions, the fallback's mood
-phrases, its config and the held-out conversational lines."""
+phrases, its config, the held-out conversational lines and `companion eval mood-style`."""
+
+import argparse
+import json
 
 import pytest
 from style_helpers import one_thread
@@ -18,6 +21,9 @@ from dialogue.style.mood import (
 from dialogue.style.mood_config import load_mood_config
 from dialogue.style.ngram import BigramLM, NgramModelError
 from dialogue.style.text import numbers, tokenize
+from dialogue.style.training.conversation import heldout_lines, training_lines
+from dialogue.style.training.mood_cli import run_eval_mood
+from dialogue.style.training.mood_lm import ALL_CONVERSATION
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
 CORPUS = ["the service was quick and friendly .", "i 'm fine , thank you .",
@@ -147,10 +153,21 @@ def test_bad_mood_config_is_an_error(tmp_path, override):
 
 
 def test_held_out_lines_are_not_training_lines():
-    from dialogue.style.training.conversation import heldout_lines, training_lines
-    from dialogue.style.training.mood_lm import ALL_CONVERSATION
-
     train = training_lines(ALL_CONVERSATION)
     held = heldout_lines(60, train)
     assert len(held) == 60 and len(set(held)) == 60
     assert not {tuple(tokenize(s)) for s in held} & {tuple(s) for s in train}
+
+
+def test_eval_mood_style_scores_both_moods_and_writes_its_files(tmp_path, capsys):
+    args = argparse.Namespace(config=None, limit=20, json=True, out=tmp_path / "eval")
+    assert run_eval_mood(args) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["lines"] == 20
+    for mood in ("negative", "positive"):
+        figures = printed[mood]
+        assert sum(figures["share"].values()) == pytest.approx(1.0)
+        assert 0 <= figures["flip_rate"] <= 1 and 0 <= figures["content_kept"] <= 1
+    assert (tmp_path / "eval" / "metrics.json").exists()
+    table = (tmp_path / "eval" / "examples.md").read_text().splitlines()
+    assert table[0] == "| Unstyled | Positive mood | Negative mood |" and len(table) == 2 + 20

@@ -110,11 +110,22 @@ def evaluate_mood(styler: MoodStyler, limit: int = 500, examples: int = 30) -> d
     for mood in STYLES:
         result[mood] = mood_figures(styler, lines, replies[mood], mood)
     result["bars_met"] = all(_meets(result[m][k], *BARS[k]) for m in STYLES for k in BARS)
-    step = max(1, len(lines) // examples)   # spread over the lines, both kinds
-    result["examples"] = [[lines[i], replies["positive"][i].text, replies["negative"][i].text,
-                           replies["positive"][i].source, replies["negative"][i].source]
-                          for i in range(0, len(lines), step)][:examples]
+    result["examples"] = [
+        [lines[i], *(replies[m][i].text for m in ("positive", "negative")),
+         *(replies[m][i].source for m in ("positive", "negative")),
+         *(replies[m][i].candidate for m in ("positive", "negative"))]
+        for i in example_rows(replies, len(lines), examples)]
     return result
+
+
+def example_rows(replies: dict[str, list[MoodReply]], n: int, examples: int) -> list[int]:
+    """Rows to show: the first lines where the model's reply was said (a fifth of them at
+    most), then lines spread evenly over the rest."""
+    said = [i for i in range(n) if any(replies[m][i].source == "model" for m in STYLES)]
+    rows = said[:examples // 5]
+    step = max(1, n // examples)
+    rows += [i for i in range(0, n, step) if i not in rows][:examples - len(rows)]
+    return sorted(rows)
 
 
 def _meets(value: float, op: str, bar: float) -> bool:
@@ -145,10 +156,19 @@ def format_mood(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _cell(text: str, source: str, model: str) -> str:
+    """A table cell: the spoken text, where it came from and, after a fallback, the model's
+    refused reply."""
+    out = text + (f" ({source})" if source else "")
+    if source == "fallback" and model:
+        out += f" [model: {model}]"
+    return out.replace("|", "\\|")
+
+
 def examples_table(result: dict[str, Any]) -> str:
     """A Markdown table of the examples: unstyled, positive and negative output."""
     rows = ["| Unstyled | Positive mood | Negative mood |", "| --- | --- | --- |"]
-    for s, pos, neg, pos_src, neg_src in result["examples"]:
-        cells = [c.replace("|", "\\|") for c in (s, pos, neg)]
-        rows.append(f"| {cells[0]} | {cells[1]} ({pos_src}) | {cells[2]} ({neg_src}) |")
+    for s, pos, neg, pos_src, neg_src, pos_model, neg_model in result["examples"]:
+        cells = [_cell(s, "", ""), _cell(pos, pos_src, pos_model), _cell(neg, neg_src, neg_model)]
+        rows.append(f"| {' | '.join(cells)} |")
     return "\n".join(rows) + "\n"
