@@ -102,6 +102,8 @@ def test_the_gate_rejects_lost_content_and_high_perplexity(lm, judge, transfer, 
     assert "judge" in gate.refusal(source, source, "negative")
     invented = ["the", "service", "was", "terrible", "and", "_num_", "quick", "friendly", "."]
     assert "number" in gate.refusal(source, invented, "negative")
+    dropped = ["it", "has", "terrible", "steps", "."]
+    assert "number" in gate.refusal(["it", "has", "_num_", "steps", "."], dropped, "negative")
 
 
 def test_numbers_come_back_as_written():

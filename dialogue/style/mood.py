@@ -11,7 +11,7 @@ The style-transfer model proposes a styled reply; the gate accepts it only when
 
 and, with ``gate.keep_questions``, a question stays a question ("Where have you been?" must
 not become "Always have you been!": every word of it is a stop word, so (b) cannot see it),
-and it has no more numbers than the reply (the model's numbers are put back as written).
+and it has as many numbers as the reply (put back as the reply wrote them).
 
 Otherwise the robot says the unstyled reply after an opening of the mood ("Sadly, ..."),
 and with a closing of the mood too when no opening alone convinces the judge (both lists
@@ -126,8 +126,8 @@ class MoodStyler:
             return "the model wrote nothing"
         if self.side(words) != mood:
             return f"the judge does not find it {mood}"
-        if words.count(NUMBER) > source.count(NUMBER):
-            return "it has a number that the reply does not have"
+        if words.count(NUMBER) != source.count(NUMBER):
+            return "it does not have the reply's numbers"
         if self.cfg.gate.keep_questions and ("?" in source) != ("?" in words):
             return "a question would become a statement, or a statement a question"
         kept = content_kept(source, words)
