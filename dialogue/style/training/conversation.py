@@ -4,9 +4,9 @@ Yelp reviews teach the transfer model sentiment but not conversation, so its tra
 gets the lines the robot actually says: the reply side of the chit-chat training pairs
 (Papaya and the chatterbot corpus, ``app/defaults/chat.yaml``'s split) and the QA bot's
 answers to the intent training questions. The held-out lines for ``companion eval
-mood-style`` come from the other side of each split: the chit-chat test split's replies and
-the QA bot's answers to the held-out routing and knowledge questions; a held-out line that
-is also a training line is dropped.
+mood-style`` come from the other side of each split: the chit-chat test and validation
+replies and the QA bot's answers to the held-out routing and knowledge questions; a
+held-out line that is also a training line is dropped.
 
 Every line is in the Yelp files' form (:func:`dialogue.style.text.tokenize`). The QA bot
 runs offline with a fixed clock, so its answers do not depend on when this runs.
@@ -77,8 +77,8 @@ def training_lines(cfg: ConversationConfig) -> list[list[str]]:
 
 
 def heldout_lines(limit: int, exclude: Sequence[Sequence[str]] = ()) -> list[str]:
-    """Up to ``limit`` held-out robot lines as the robot says them: the chit-chat test
-    split's replies, then the QA bot's answers to the held-out routing and knowledge
+    """Up to ``limit`` held-out robot lines as the robot says them: the chit-chat test and
+    validation replies, then the QA bot's answers to the held-out routing and knowledge
     questions, alternating so both kinds are present; none is in ``exclude`` (tokenised
     training lines)."""
     banned = {tuple(w) for w in exclude}
