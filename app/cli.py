@@ -17,7 +17,8 @@ from app.core.signals import exit_status, signal_name, terminable
 
 DOMAINS = ["app.mind.policy.training.cli", "app.mind.preferences.evaluation.cli",
            "app.mind.preferences.cli",
-           "dialogue.cli", "dialogue.style.training.cli", "dialogue.chat.training.cli",
+           "dialogue.cli", "dialogue.style.training.cli", "dialogue.style.training.mood_cli",
+           "dialogue.chat.training.cli",
            "dialogue.speech.training.cli",
            "perception.detector.training.cli",
            "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",

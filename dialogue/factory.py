@@ -5,7 +5,7 @@ models, the reply log and the robot's mood for a chat session.
 In a household run the QA bot knows the scenario's household map and weather, tells the
 scenario's time (its ``time_of_day`` in the home city's time zone, moved on by the simulated
 seconds) and takes photos with the robot's camera; chit-chat replies come from the shipped
-seq2seq model, restyled by the shipped mood style-transfer model.
+seq2seq model, restyled by the shipped mood style-transfer model behind its gate.
 """
 
 from __future__ import annotations
@@ -31,7 +31,8 @@ from dialogue.qa.music import Songs
 from dialogue.qa.news import SAMPLE_FEED, check_feed
 from dialogue.qa.places import lookup
 from dialogue.speech.config import load_speech_config
-from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
+from dialogue.style.mood import MoodStyler
+from dialogue.style.transfer import DEFAULT_STYLE_MODEL
 
 
 def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
@@ -50,9 +51,11 @@ def shipped_chitchat() -> ChitChatModel | None:
     return ChitChatModel.load(DEFAULT_CHAT_MODEL) if DEFAULT_CHAT_MODEL.is_file() else None
 
 
-def shipped_style() -> StyleTransfer | None:
-    """The shipped mood style-transfer model, or None while none has been trained."""
-    return StyleTransfer.load(DEFAULT_STYLE_MODEL) if DEFAULT_STYLE_MODEL.is_file() else None
+def shipped_style() -> MoodStyler | None:
+    """The shipped mood style-transfer model behind its gate (``app/defaults/mood_style.yaml``:
+    the styled reply only when it keeps meaning and grammar, else the reply with a mood
+    opening), or None while no model has been trained."""
+    return MoodStyler.load() if DEFAULT_STYLE_MODEL.is_file() else None
 
 
 def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir: Path,

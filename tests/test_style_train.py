@@ -21,7 +21,12 @@ from dialogue.style.config import load_style_config
 from dialogue.style.files import StyleModelError
 from dialogue.style.training import cli as style_cli
 from dialogue.style.training import train as style_train
-from dialogue.style.transfer import StyleTransfer, readable, replace_unknown
+from dialogue.style.transfer import (
+    DEFAULT_STYLE_MODEL,
+    StyleTransfer,
+    readable,
+    replace_unknown,
+)
 from textnets.loop import Run
 from textnets.vocab import SPECIALS, Vocab
 
@@ -43,7 +48,7 @@ def trained(tmp_path_factory, data_dir):
     root = tmp_path_factory.mktemp("run")
     args = argparse.Namespace(config=tiny_config(root, data_dir), out=root / "out",
                               resume=False, data=None, no_style_autoencoder=False,
-                              export=root / "models", no_progress=True, judges=None)
+                              export=root / "models", no_progress=True, judges=None, init=None)
     assert style_cli.run_train(args) == 0
     return root
 
@@ -74,7 +79,7 @@ def test_tiny_training_lowers_each_loss(trained):
 def test_existing_run_needs_resume(trained):
     args = argparse.Namespace(config=trained / "tiny.yaml", out=trained / "out", resume=False,
                               data=None, no_style_autoencoder=False, export=None,
-                              no_progress=True, judges=None)
+                              no_progress=True, judges=None, init=None)
     with pytest.raises(FileExistsError):
         style_cli.run_train(args)
 
@@ -82,7 +87,7 @@ def test_existing_run_needs_resume(trained):
 def test_an_ablation_reuses_the_judges_of_an_earlier_run(trained, tmp_path):
     args = argparse.Namespace(config=trained / "tiny.yaml", out=tmp_path / "ablation",
                               resume=False, data=None, no_style_autoencoder=True, export=None,
-                              no_progress=True, judges=trained / "out")
+                              no_progress=True, judges=trained / "out", init=None)
     assert style_cli.run_train(args) == 0
     for name in ("classifier.pt", "lm.pt"):
         assert (tmp_path / "ablation" / name).read_bytes() == (trained / "out" / name).read_bytes()
@@ -90,6 +95,27 @@ def test_an_ablation_reuses_the_judges_of_an_earlier_run(trained, tmp_path):
     summary = json.loads((tmp_path / "ablation" / "summary.json").read_text())
     assert summary["classifier"]["test_accuracy"] > 0.9
     assert (tmp_path / "ablation" / "style.pt").exists()
+
+
+def test_fine_tuning_starts_from_a_model_and_adds_the_robots_lines(trained, tmp_path):
+    config = tmp_path / "tune.yaml"
+    config.write_text((trained / "tiny.yaml").read_text()
+                      + "\nconversation: {chat: true, qa: true, repeat: 2}\n")
+    args = argparse.Namespace(config=config, out=tmp_path / "tune", resume=False, data=None,
+                              no_style_autoencoder=False, export=None, no_progress=True,
+                              judges=trained / "out", init=trained / "models" / "style.pt")
+    assert style_cli.run_train(args) == 0
+    summary = json.loads((tmp_path / "tune" / "summary.json").read_text())
+    lines = summary["conversation"]["lines"]
+    assert lines > 500 and 0 < summary["conversation"]["positive"] < lines
+    assert summary["conversation"]["repeat"] == 2 and summary["conversation"]["kept"] == lines
+    start = torch.load(trained / "models" / "style.pt", weights_only=True)["state_dict"]
+    first = torch.load(tmp_path / "tune" / "style.pt", weights_only=True)
+    assert first["meta"]["step"] >= 0 and set(first["state_dict"]) == set(start)
+    other = argparse.Namespace(**{**vars(args), "out": tmp_path / "other",
+                                  "init": DEFAULT_STYLE_MODEL})
+    with pytest.raises(StyleModelError, match="another vocabulary"):
+        style_cli.run_train(other)
 
 
 def test_interrupted_training_resumes_to_the_same_model(tmp_path, data_dir, monkeypatch):

@@ -140,10 +140,22 @@ class DecodeConfig(StrictModel):
     style_min_count: int = Field(ge=1)
 
 
+class ConversationConfig(StrictModel):
+    """Conversational lines added to the training split of the transfer model (not of its
+    judges), each labelled by the sentiment judge; see docs/style_transfer.md."""
+
+    chat: bool = False       # the chit-chat TRAIN split's replies (app/defaults/chat.yaml)
+    qa: bool = False         # the QA bot's answers to the intent training questions
+    repeat: int = Field(default=1, ge=1)   # each line this many times in the training set
+    min_confidence: float = Field(default=0.5, ge=0.5, lt=1)   # the judge's, to keep a line
+    max_words: int = Field(default=15, ge=1)
+
+
 class StyleConfig(StrictModel):
     """Everything ``companion train style`` needs."""
 
     data: DataConfig
+    conversation: ConversationConfig = ConversationConfig()
     model: ModelConfig
     classifier: ClassifierConfig
     lm: LMConfig

@@ -7,18 +7,28 @@ import re
 from collections.abc import Sequence
 
 STYLES = ("negative", "positive")
+NUMBER = "_num_"
 _PUNCT = re.compile(r"([.,!?;:()\"&])")
 _CLITIC = re.compile(r"(\w)(n't|'s|'re|'ve|'m|'ll|'d)\b")
 _NUMBER = re.compile(r"^\d+([.,:]\d+)*$")
 _SENTENCE_END = re.compile(r"(?<=[.!?])\s+")
 
 
-def tokenize(text: str) -> list[str]:
-    """Lower-case and split free text the way the Yelp files are: ``didn't`` -> ``did n't``."""
+def _split(text: str) -> list[str]:
+    """Lower-cased tokens with clitics and punctuation apart, numbers still as written."""
     text = text.lower().replace("\u2019", "'")
     text = _CLITIC.sub(r"\1 \2", text)
-    text = _PUNCT.sub(r" \1 ", text)
-    return ["_num_" if _NUMBER.match(w) else w for w in text.split()]
+    return _PUNCT.sub(r" \1 ", text).split()
+
+
+def tokenize(text: str) -> list[str]:
+    """Lower-case and split free text the way the Yelp files are: ``didn't`` -> ``did n't``."""
+    return [NUMBER if _NUMBER.match(w) else w for w in _split(text)]
+
+
+def numbers(text: str) -> list[str]:
+    """The numbers of free text as written, in order: what its ``_num_`` tokens stand for."""
+    return [w for w in _split(text) if _NUMBER.match(w)]
 
 
 def detokenize(words: Sequence[str]) -> str:

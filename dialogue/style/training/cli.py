@@ -47,6 +47,9 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--judges", type=Path,
                    help="reuse the classifier and language model of this earlier run folder "
                    "(same data split) instead of training them, e.g. for the ablation")
+    p.add_argument("--init", type=Path,
+                   help="start the transfer model from this style.pt (same vocabulary and "
+                   "sizes) instead of from scratch: fine-tuning, e.g. on conversation")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.set_defaults(func=run_train)
 
@@ -107,7 +110,7 @@ def run_train(args: argparse.Namespace) -> int:
     cfg = config_for(args, StyleConfig, lambda: _train_config(args), "config", "data",
                      "no_style_autoencoder")
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
-                    judges=args.judges)
+                    judges=args.judges, init=args.init)
     if args.export:
         from app.core.checkpoint import atomic_copy
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 import csv
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import torch
@@ -33,6 +33,7 @@ from dialogue.style.files import StyleModelError, load_classifier, load_lm, save
 from dialogue.style.model import StyleTransferModel
 from dialogue.style.nets import LanguageModel, SentimentClassifier
 from dialogue.style.training.data import Split, load_splits, style_markers
+from dialogue.style.training.finetune import conversation_set, start_from
 from dialogue.style.training.losses import discriminator_loss, pretrain_losses, transfer_losses
 from dialogue.style.training.metrics import accuracy, perplexity, self_bleu
 from textnets.batch import BatchSampler
@@ -52,6 +53,14 @@ class Data:
     splits: dict[str, Split]
     vocab: Vocab
     ids: dict[str, list[list[int]]]
+    extra_ids: list[list[int]] = field(default_factory=list)   # conversational lines
+    extra_labels: list[int] = field(default_factory=list)      # ... as the judge labels them
+    fine_tuning: bool = False     # started from a trained model (not a selection candidate)
+
+    def transfer_train(self) -> tuple[list[list[int]], list[int]]:
+        """The transfer model's training set: Yelp's training split and the conversational
+        lines (the judges train on Yelp alone)."""
+        return self.ids["train"] + self.extra_ids, self.splits["train"].labels + self.extra_labels
 
 
 def prepare_data(cfg: StyleConfig) -> Data:
@@ -101,9 +110,10 @@ def adopt_judges(run: Run, data: Data, nets: dict, judges: Path) -> dict:
 
 
 def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool = True,
-          judges: Path | None = None) -> dict:
+          judges: Path | None = None, init: Path | None = None) -> dict:
     """Run (or continue) every phase into ``out_dir``; returns the summary it also writes.
-    ``judges``: a run folder whose classifier and language model are reused."""
+    ``judges``: a run folder whose classifier and language model are reused; ``init``: a
+    ``style.pt`` whose weights the transfer model starts from (fine-tuning)."""
     out_dir.mkdir(parents=True, exist_ok=True)
     tc = cfg.train
     torch.set_num_threads(tc.threads)
@@ -116,6 +126,9 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
         hidden = style_markers(data.splits["train"], data.vocab, cfg.model.mask_ratio,
                                cfg.model.mask_min_count)
         nets["style"].set_masked([data.vocab.stoi[w] for w in hidden])
+    if init is not None:
+        start_from(nets["style"], data.vocab, init)
+        data.fine_tuning = True
     run = Run(cfg, out_dir, nets, resume, progress)
     run.folder.use_config(cfg)
     summary_path = out_dir / "summary.json"
@@ -125,6 +138,10 @@ def train(cfg: StyleConfig, out_dir: Path, resume: bool = False, progress: bool 
         summary.update(adopt_judges(run, data, nets, judges))
     with stop_requests():  # SIGINT or SIGTERM: a checkpoint before the next step, then stop
         for phase in PHASES:
+            if phase == "pretrain" and (cfg.conversation.chat or cfg.conversation.qa):
+                data.extra_ids, data.extra_labels, counts = conversation_set(
+                    cfg, data.vocab, nets["classifier"])
+                summary.update(counts)
             if phase in run.done:
                 continue
             summary.update(PHASE_FNS[phase](run, data, nets) or {})
@@ -202,8 +219,7 @@ def _style_optimizer(run: Run, params, lr: float) -> torch.optim.Optimizer:
 def phase_pretrain(run: Run, data: Data, nets: dict) -> None:
     """Eqs. 3.8-3.10: language-model pre-training of E_z and G with the style auto-encoder."""
     tc, model = run.cfg.train, nets["style"]
-    sampler = BatchSampler(data.ids["train"], data.splits["train"].labels, tc.batch_size,
-                           tc.seed + 3)
+    sampler = BatchSampler(*data.transfer_train(), tc.batch_size, tc.seed + 3)
     opt = _style_optimizer(run, model.generator_parameters(), tc.pretrain_lr)
 
     @stops_first
@@ -221,8 +237,7 @@ def phase_pretrain(run: Run, data: Data, nets: dict) -> None:
 def phase_reconstruct(run: Run, data: Data, nets: dict) -> None:
     """Eqs. 3.8 and 3.11: reconstruction warm-up before the adversarial phase."""
     tc, model = run.cfg.train, nets["style"]
-    sampler = BatchSampler(data.ids["train"], data.splits["train"].labels, tc.batch_size,
-                           tc.seed + 4)
+    sampler = BatchSampler(*data.transfer_train(), tc.batch_size, tc.seed + 4)
     opt = _style_optimizer(run, model.generator_parameters(), tc.pretrain_lr)
 
     @stops_first
@@ -240,8 +255,7 @@ def phase_reconstruct(run: Run, data: Data, nets: dict) -> None:
 def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
     """Cross-alignment with the N+1 discriminator and cycle consistency; exports style.pt."""
     cfg, tc, model = run.cfg, run.cfg.train, nets["style"]
-    sampler = BatchSampler(data.ids["train"], data.splits["train"].labels, tc.batch_size,
-                           tc.seed + 5)
+    sampler = BatchSampler(*data.transfer_train(), tc.batch_size, tc.seed + 5)
     g_opt = _style_optimizer(run, model.generator_parameters(), tc.lr)
     d_opt = torch.optim.Adam(model.discriminator.parameters(), lr=tc.disc_lr, betas=tc.betas)
     valid_sents, valid_labels = balanced_subset(data.splits["valid"], tc.eval_sentences)
@@ -287,8 +301,8 @@ def phase_adversarial(run: Run, data: Data, nets: dict) -> dict:
             csv.writer(fh).writerow([at, f"{acc:.4f}", f"{bleu:.2f}", f"{s:.2f}",
                                      int(improved), f"{run.wall():.1f}"])
 
-    if not resumed:
-        evaluate(0)  # the warm-up model competes too
+    if not resumed and not data.fine_tuning:
+        evaluate(0)  # the warm-up model competes too (not the start of a fine-tuning)
     fields = ["style", "rec", "adv", "cycle", "disc", "disc_acc", "tau"]
     run.loop("adversarial", tc.adversarial_steps, step, fields, {"g": g_opt, "d": d_opt},
              {"train": sampler}, extra, evaluate, tc.eval_every)
