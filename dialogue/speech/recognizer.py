@@ -29,6 +29,14 @@ ACOUSTIC_FILES = ("mdef", "means", "variances", "transition_matrices", "sendump"
                   "noisedict")
 
 
+def wheel_model_dir() -> Path:
+    """The folder of pocketsphinx's own en-US model files inside its wheel: the acoustic
+    model in ``en-us/`` and the pronunciation dictionary ``cmudict-en-us.dict``."""
+    from pocketsphinx import get_model_path
+
+    return Path(get_model_path()) / "en-us"
+
+
 class SpeechModelError(UserError):
     """The recogniser's model files are missing or unreadable."""
 
@@ -67,12 +75,12 @@ class SpeechRecognizer:
     """pocketsphinx with the household language model; ``transcribe`` one sound at a time."""
 
     def __init__(self, cfg: SpeechConfig | None = None) -> None:
-        from pocketsphinx import Config, Decoder, get_model_path
+        from pocketsphinx import Config, Decoder
 
         self.cfg = cfg or load_speech_config()
         m = self.cfg.model
         lm, words = m.path(m.language_model), m.path(m.dictionary)
-        hmm = (Path(get_model_path()) / "en-us" / "en-us" if m.acoustic_model is None
+        hmm = (wheel_model_dir() / "en-us" if m.acoustic_model is None
                else m.path(m.acoustic_model))
         for path in (lm, words, *(hmm / name for name in ACOUSTIC_FILES)):
             if not path.is_file():

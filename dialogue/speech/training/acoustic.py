@@ -37,10 +37,11 @@ from app.sim.acoustics import RATE
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.speech.config import SpeechAdaptConfig
-from dialogue.speech.recognizer import ACOUSTIC_FILES
+from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
 from dialogue.speech.training.rooms import living_room, speaker_at
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
+from dialogue.speech.training.train import full_dictionary
 from dialogue.speech.words import spoken_words
 
 PARAMETERS = ("means", "variances", "mixture_weights", "transition_matrices")
@@ -168,13 +169,10 @@ def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
                          ) -> dict[str, object]:
     """Adapt the wheel's en-US model and write what the recogniser loads to ``out_dir``
     (with ``adaptation.json``, the figures for the model card)."""
-    from pocketsphinx import get_model_path
-
     say = progress or (lambda _: None)
-    source = Path(get_model_path()) / "en-us" / "en-us"
-    dictionary = Path(get_model_path()) / "en-us" / "cmudict-en-us.dict"
-    words = {line.split(maxsplit=1)[0] for line in dictionary.read_text().splitlines() if line}
-    lines = adaptation_lines(excluded, words)[:cfg.max_lines]
+    source = wheel_model_dir() / "en-us"
+    dictionary = wheel_model_dir() / "cmudict-en-us.dict"
+    lines = adaptation_lines(excluded, set(full_dictionary()))[:cfg.max_lines]
     with tempfile.TemporaryDirectory(prefix="adapt-") as tmp:
         work = Path(tmp)
         log = work / "tools.log"

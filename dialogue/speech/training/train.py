@@ -13,6 +13,7 @@ import yaml
 from app.core.checkpoint import atomic_write_bytes
 from app.core.paths import WORLDS_DIR
 from dialogue.speech.config import SpeechConfig
+from dialogue.speech.recognizer import wheel_model_dir
 from dialogue.speech.training.corpus import HELD_OUT_FILES, build_corpus, tsv_lines
 from dialogue.speech.training.language_model import NGramModel, ngram_counts
 from dialogue.speech.words import spoken_words
@@ -22,10 +23,8 @@ ALTERNATE = re.compile(r"\(\d+\)$")   # "read(2)": a second pronunciation of "re
 
 def full_dictionary() -> dict[str, list[str]]:
     """pocketsphinx's en-US pronunciation dictionary: each word's lines, alternates kept."""
-    from pocketsphinx import get_model_path
-
     entries: dict[str, list[str]] = {}
-    path = Path(get_model_path()) / "en-us" / "cmudict-en-us.dict"
+    path = wheel_model_dir() / "cmudict-en-us.dict"
     for line in path.read_text(encoding="utf-8").splitlines():
         if line.strip():
             head = line.split(maxsplit=1)[0]
