@@ -84,10 +84,23 @@ ANSWERED_WITHIN_S = 15.0  # a line counts as answered when the reply starts this
 NOT_ANSWERS = ("say_again", "not_understood")   # replies that ask again or give up
 
 
+def _a_line_for_the_robot(said: dict[int, dict[str, Any]], line: dict[str, Any]) -> bool:
+    """Whether ``line`` (a ``line_said`` event) was said to the robot and is not
+    encouragement; a repeat is what it repeats."""
+    if line["how"] == "repeat":
+        line = next((s for s in said.values() if s["line"] < line["line"]
+                     and s["person"] == line["person"] and s["text"] == line["text"]), line)
+    return line["to"] in AUDIENCES and line["how"] != "encourage"
+
+
 def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
     """Seconds from hearing each line said to the robot to the start of its reply, for the
-    lines that got one, sorted."""
-    heard = {e["line"]: e["t"] for e in events if e["kind"] == "heard"}
+    lines that got one, sorted. Words of encouragement, and lines for someone else that the
+    robot took as its own, are not lines said to it (what was said is known from the run's
+    ``line_said`` events; a line typed on the tablet has none and counts)."""
+    said = {e["line"]: e for e in events if e["kind"] == "line_said"}
+    heard = {e["line"]: e["t"] for e in events if e["kind"] == "heard"
+             and (e["line"] not in said or _a_line_for_the_robot(said, said[e["line"]]))}
     first: dict[int, float] = {}
     for e in events:
         if e["kind"] == "say" and e.get("line") in heard and e.get("route") not in NOT_ANSWERS:
@@ -99,7 +112,8 @@ def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
     """How the robot heard: lines people said to it (repeats apart), those loud enough to
     make a sound at its microphones, those it made out, those it was unsure of, how often
     it asked for a line again, and the word error rate of its transcripts of lines said to
-    it (against what was said, which only the scoring knows)."""
+    it (against what was said, which only the scoring knows); how it made out encouragement
+    and whom lines were for."""
     said = {e["line"]: e for e in events if e["kind"] == "line_said"}
     to_robot = [e for e in said.values() if e["to"] in AUDIENCES and e["how"] == "say"]
     heard = [e for e in events if e["kind"] == "heard" and e["line"] in said]
@@ -111,7 +125,38 @@ def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
         "asked_again": sum(e["kind"] == "say" and e.get("route") == "say_again"
                            for e in events),
         "lines_overheard": sum(e["kind"] == "overheard" for e in events),
+        **encouragement_metrics(said, events),
+        **addressee_metrics(said, events),
         "speech_wer": round(jiwer.wer(refs, [e["text"] for e in heard]), 4) if heard else None,
+    }
+
+
+def encouragement_metrics(said: dict[int, dict[str, Any]], events: list[dict[str, Any]]
+                          ) -> dict[str, int]:
+    """The scenario's words of encouragement, and those the robot made out as praise (the
+    line itself or the speaker's repeat of it); and every line it took as encouragement."""
+    taken = {e["line"] for e in events if e["kind"] == "encouraged"}
+    meant = [e for e in said.values() if e["how"] == "encourage"]
+    return {
+        "encouragement_said": len(meant),
+        "encouragement_made_out": sum(
+            any(s["line"] in taken for s in said.values() if s["line"] >= e["line"]
+                and s["person"] == e["person"] and s["text"] == e["text"]) for e in meant),
+        "encouraged": len(taken),
+    }
+
+
+def addressee_metrics(said: dict[int, dict[str, Any]], events: list[dict[str, Any]]
+                      ) -> dict[str, int]:
+    """Whom the robot took lines to be for, against whom they were for: lines said to
+    someone else, those it took as its own, and lines for it that it took as someone
+    else's."""
+    judged = [(e["kind"], said[e["line"]]["to"] in AUDIENCES) for e in events
+              if e["kind"] in ("heard", "overheard") and e["line"] in said]
+    return {
+        "lines_for_others": sum(e["to"] not in AUDIENCES for e in said.values()),
+        "lines_for_others_taken": judged.count(("heard", False)),
+        "lines_for_robot_overheard": judged.count(("overheard", True)),
     }
 
 

@@ -74,6 +74,7 @@ class Context:
     snapshot: Any = None                     # callable(tag, frame) -> saved path, or None
     steps: StepRecord = field(default_factory=StepRecord)  # the homeostasis steps so far
     contain_faults: bool = False   # an exception in a behaviour fails it (household runs)
+    household: tuple[str, ...] = ()   # the names of the people it lives with (its set-up)
     memory: Memory | None = None   # the household's preferences: adapt to feedback when set
     memory_path: Path | None = None                 # where the memory is saved as it learns
     adaptation: AdaptationConfig = field(
@@ -111,4 +112,5 @@ def make_context(sim: Any, config: BehaviourConfig | None = None,
                    homeostasis=Homeostasis(load_personality(scenario.personality)),
                    config=config or load_behaviour_config(), clock=clock, events=events,
                    speaker=Speaker(events, audio_dir, sim.robot.cfg.voice), detector=detector,
-                   camera_rate=scenario.camera_rate, ask_again=sim.ask_again, **services)
+                   camera_rate=scenario.camera_rate, ask_again=sim.ask_again,
+                   household=tuple(p.name for p in scenario.people), **services)

@@ -1,14 +1,15 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
 - people's social events (the simulation's inbox): each sound the microphones recorded
-  goes through the speech recogniser (``ctx.recognizer``); a line said to the robot that it
-  made out is queued in ``heard`` (marked ``unclear`` when the recogniser was unsure, so the
-  chat skill asks for it again) and, like a person in front, makes the human-present
-  stimulus: someone talking to the robot is an interaction; lines for someone else are
-  logged as overheard; words of encouragement the robot made out switch the encouragement
-  stimulus on for ``encouragement_s``; feedback (praise or scolding, r_external) is queued in
-  ``feedback`` for :class:`behaviours.feedback.Credit`; whoever spoke or gave feedback last
-  is ``person``;
+  goes through the speech recogniser (``ctx.recognizer``); whom the words are said to is
+  judged from them (:mod:`dialogue.addressee`: the robot, unless someone else is called by
+  name); a line for the robot that it made out is queued in ``heard`` (marked ``unclear``
+  when the recogniser was unsure, so the chat skill asks for it again) and, like a person
+  in front, makes the human-present stimulus: someone talking to the robot is an
+  interaction; lines for someone else are logged as overheard; a line heard as praise or
+  scolding (r_external) is queued in ``feedback`` for :class:`behaviours.feedback.Credit`,
+  and praise is also encouragement: it switches the encouragement stimulus on for
+  ``encouragement_s``; whoever spoke or gave feedback last is ``person``;
 - an emotion counts only on a face the detector found in the current frame (what the face
   at the box's centre shows, :meth:`app.sim.world.World.expression_of`); it colours the
   mood for ``emotion_hold_s`` after it was last seen;
@@ -35,7 +36,9 @@ from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, people_in_view
+from dialogue.addressee import AddresseeJudge
 from dialogue.feedback import FeedbackClassifier
+from dialogue.persona import Persona
 from perception.detector.yolo import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
@@ -54,10 +57,12 @@ class Sense(ContextBehaviour):
         self._present_until = -np.inf
         self._noticed = 0.0          # when a person was last seen in a frame or heard
         self.range: PersonRange | None = None
+        self.addressee: AddresseeJudge | None = None
         self.health = SensorHealth(self.emit)
 
     def setup(self, **kwargs: Any) -> None:
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
+        self.addressee = AddresseeJudge(Persona.default().config.name, self.ctx.household)
 
     def _social(self) -> None:
         for ev in self.ctx.inbox:
@@ -76,7 +81,7 @@ class Sense(ContextBehaviour):
 
     def _listen(self, sound: Sound) -> None:
         """Recognise ``sound``; act on what was made out of it."""
-        recognizer, cfg = self.ctx.recognizer, self.ctx.config
+        recognizer = self.ctx.recognizer
         if recognizer is None:      # a robot without speech recognition hears nothing
             return
         words = recognizer.transcribe(sound.audio, sound.rate)
@@ -85,16 +90,11 @@ class Sense(ContextBehaviour):
                       snr_db=round(words.snr_db, 1))
             return
         self._noticed = self.now
-        unclear = not recognizer.understood(words)
-        if sound.kind == "encourage":
-            if not unclear:
-                self._encouraged_until = self.now + cfg.encouragement_s
-            self.emit("encouraged" if not unclear else "unclear_encouragement",
-                      person=sound.person, text=words.text,
-                      confidence=round(words.confidence, 3))
-            return
-        self._take(HeardLine(sound.line, sound.t, sound.person, words.text, sound.to,
-                             sound.bearing, words.confidence, unclear=unclear))
+        assert self.addressee is not None, "setup() first"
+        to = self.addressee.judge(words.text).to
+        self._take(HeardLine(sound.line, sound.t, sound.person, words.text, to,
+                             sound.bearing, words.confidence,
+                             unclear=not recognizer.understood(words)))
 
     def _take(self, line: HeardLine) -> None:
         """Queue a line meant for the robot (heard, or typed on its tablet); log it."""
@@ -102,16 +102,18 @@ class Sense(ContextBehaviour):
             self.bb.heard = [*self.bb.heard, line]
             self.bb.person = (line.person, self.now)
             self._present_until = self.now + self.ctx.config.perception.present_hold_s
-            if not line.unclear:
-                self._spoken_feedback(line)
         self.emit("heard" if line.to_robot else "overheard", line=line.line,
                   person=line.person, text=line.text, to=line.to,
                   bearing=round(line.bearing, 3), confidence=round(line.confidence, 3),
                   unclear=line.unclear)
+        if line.to_robot and not line.unclear:
+            self._spoken_feedback(line)
 
     def _spoken_feedback(self, line: HeardLine) -> None:
-        """A line that praises or scolds (``dialogue.feedback``) is also feedback; only a
-        robot that understands speech (one with a dialogue) hears it."""
+        """A line that praises or scolds (``dialogue.feedback``) is also feedback, and
+        praise is encouragement (the thesis's stimulus, held ``encouragement_s``): the words
+        decide, not who said them or why. Only a robot that understands speech (one with a
+        dialogue) hears it."""
         if self.ctx.dialogue is None:
             return
         value = FeedbackClassifier.default().value(line.text)
@@ -119,6 +121,9 @@ class Sense(ContextBehaviour):
             self.bb.feedback = [*self.bb.feedback, FeedbackEvent(line.t, line.person, value,
                                                                  None)]
             self.emit("feedback", person=line.person, value=value, about=None, line=line.line)
+        if value > 0:
+            self._encouraged_until = self.now + self.ctx.config.encouragement_s
+            self.emit("encouraged", person=line.person, text=line.text, line=line.line)
 
     def _camera(self) -> None:
         ctx, cfg = self.ctx, self.ctx.config.perception

@@ -34,12 +34,23 @@ class PersonaConfig(StrictModel):
     likes: list[str] = Field(min_length=1)
 
 
+class AddresseeConfig(StrictModel):
+    """How the robot tells whom a line is said to (``dialogue/addressee.py``)."""
+
+    robot_words: list[str]
+    group_words: list[str]
+    family_words: list[str]
+    openers: list[str] = Field(min_length=1)
+    first_words: int = Field(ge=1)
+
+
 class ConversationConfig(StrictModel):
     """The whole file."""
 
     knowledge: KnowledgeConfig
     input_check: InputCheckConfig
     persona: PersonaConfig
+    addressee: AddresseeConfig
 
 
 @cache

@@ -18,19 +18,21 @@ from app.sim.scenario import Event, Start, load_scenario
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def living_room(lines: list[tuple[float, str]], duration: float = 30.0):
+def living_room(lines: list[tuple[float, str]], duration: float = 30.0, how: str = "say"):
     """worlds/living_room.yaml with Tom alone, standing behind the robot, saying ``lines``
-    (time, text); the robot starts standing by with calm drives."""
+    (time, text; ``how``: ``say`` or ``encourage``); the robot starts standing by with calm
+    drives."""
     base = load_scenario(ROOT / "worlds" / "living_room.yaml")
     tom = next(q for q in base.people if q.name == "Tom")
-    events = tuple(Event.model_validate({"at": t, "say": text}) for t, text in lines)
+    events = tuple(Event.model_validate({"at": t, how: text}) for t, text in lines)
     tom = tom.model_copy(update={"start": Start(x=5.6, y=2.6, yaw=180.0), "events": events})
     robot = base.robot.model_copy(update={"start": Placement(x=4.4, y=2.6, yaw=180.0)})
     return base.model_copy(update={"people": (tom,), "robot": robot, "duration": duration})
 
 
 def run(scenario, out: Path) -> tuple[list[dict], list[tuple[float, float]]]:
-    """Tick the whole run; its events and (t, bearing error from robot head to Tom)."""
+    """Tick the whole run; its events (and what was said, for scoring) and (t, bearing
+    error from robot head to Tom)."""
     household = build_run(scenario, out)
     facing = []
     with household.sim as sim:
@@ -40,7 +42,8 @@ def run(scenario, out: Path) -> tuple[list[dict], list[tuple[float, float]]]:
             tom = sim.world.people_positions()["Tom"]
             head = yaw + sim.robot.joint_positions()["HeadYaw"]
             facing.append((sim.t, wrap_angle(math.atan2(tom.y - y, tom.x - x) - head)))
-    return household.ctx.events.events, facing
+        said = [{"kind": "line_said", **line} for line in sim.sound.said]  # as a run logs
+    return household.ctx.events.events + said, facing
 
 
 @pytest.fixture(scope="module")
@@ -72,3 +75,23 @@ def test_a_song_asked_for_is_sung_after_the_reply(answered):
     assert sung[0] == "Happy birthday to you"
     started = [e["reason"] for e in events if e["kind"] == "action"]
     assert "asked" in started
+
+
+def test_encouragement_and_the_addressee_are_made_out_from_the_words(tmp_path):
+    """Praise said as a plain line encourages the robot as much as a scripted
+    ``encourage:``; a question does not. A line the script says to the robot but whose
+    words call someone else is overheard, not answered."""
+    scenario = living_room([(3.0, "Well done, robot, that was lovely!")], 30.0, how="encourage")
+    tom = scenario.people[0]
+    said = (Event.model_validate({"at": 10.0, "say": "What time is it in London?"}),
+            Event.model_validate({"at": 18.0, "say": "Bravo, you're doing a great job!"}),
+            Event.model_validate({"at": 24.0, "say": "Grandma, would you like some tea?"}))
+    scenario = scenario.model_copy(update={"people": (
+        tom.model_copy(update={"events": tom.events + said}),)})
+    events, _ = run(scenario, tmp_path)
+    assert [e["line"] for e in events if e["kind"] == "encouraged"] == [1, 3]
+    metrics = interaction_metrics(events)
+    assert (metrics["encouragement_said"], metrics["encouragement_made_out"]) == (1, 1)
+    overheard = [e for e in events if e["kind"] == "overheard"]
+    assert [(e["line"], e["to"]) for e in overheard] == [(4, "grandma")]
+    assert not [e for e in events if e["kind"] == "say" and e.get("line") == 4]

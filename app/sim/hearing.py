@@ -36,16 +36,15 @@ class MicrophonesConfig(StrictModel):
 class Sound:
     """A recording of one line: ``line`` numbers it within the run, ``audio`` holds the
     samples at ``rate`` Hz; ``bearing`` (rad, world frame) is where the voice came from as
-    the microphones localised it; ``kind`` is ``say`` or ``encourage``."""
+    the microphones localised it. Whether the words are encouragement is for the robot to
+    make out from them."""
 
     line: int
     t: float
     person: str
-    to: str
     bearing: float
     audio: np.ndarray
     rate: int
-    kind: str = "say"
 
 
 @dataclass(frozen=True)

@@ -87,8 +87,8 @@ class HouseholdSound:
         if self.voices_dir is not None:
             write_wav(self.voices_dir / f"line-{line:04d}.wav",
                       np.clip(np.round(audio), -32768, 32767).astype(np.int16), RATE)
-        return Sound(line, event.t, event.person, event.to,
-                     self.microphones.bearing(here, at), audio, RATE, kind)
+        return Sound(line, event.t, event.person, self.microphones.bearing(here, at), audio,
+                     RATE)
 
     def asked_again(self, line: int, t: float) -> SayEvent | None:
         """The robot asked for ``line`` again: the same words, said again after a moment,

@@ -1,0 +1,35 @@
+"""Whom a line is for is judged from its words: the vocative, found in transcripts that
+have neither capitals nor commas."""
+
+from __future__ import annotations
+
+import pytest
+
+from dialogue.addressee import AddresseeJudge
+
+HOUSEHOLD = ["Margaret", "Harold", "Nurse Lin", "Tom"]
+
+
+@pytest.mark.parametrize(("text", "to"), [
+    ("Margaret, shall we do the crossword after tea?", "margaret"),
+    ("margaret shall we do the crossword after tea", "margaret"),   # as transcribed
+    ("Cheer up, Harold. Fancy a game of chess?", "harold"),          # after an opener
+    ("Oh Tom, would you put the kettle on?", "tom"),
+    ("Nurse, could you help me up?", "nurse"),
+    ("Dad, would you like a piece of cake?", "dad"),                  # a family title
+    ("Hello everyone! Has everybody had their tea?", "everyone"),
+    ("Pip, what time is it?", "robot"),                               # the robot's name
+    ("How are you today, little robot?", "robot"),
+    ("Is Margaret coming today?", "robot"),            # a name, but not calling anyone
+    ("My son was supposed to visit today, but he cancelled.", "robot"),
+    ("", "robot"),
+])
+def test_the_vocative_decides_whom_a_line_is_for(text: str, to: str) -> None:
+    judged = AddresseeJudge("Pip", HOUSEHOLD).judge(text)
+    assert judged.to == to
+    assert judged.to_robot == (to in ("robot", "everyone"))
+
+
+def test_the_robot_never_takes_its_own_name_for_someone_elses() -> None:
+    judge = AddresseeJudge("Tom", HOUSEHOLD)       # a household member shares its name
+    assert judge.judge("Tom, sing us a song").to == "robot"
