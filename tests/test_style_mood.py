@@ -95,7 +95,10 @@ def test_the_gate_rejects_lost_content_and_high_perplexity(lm, judge, transfer, 
     keeps = tokenize("the service was terrible and the staff were rude, quick, friendly.")
     scrambled = tokenize("friendly quick service and the rude terrible. the was")
     assert gate.side(scrambled) == "negative" and content_kept(source, scrambled) == 1.0
-    assert "perplexity" in gate.refusal(source, scrambled, "negative")
+    assert "never seen" in gate.refusal(source, scrambled, "negative")   # "friendly quick"
+    assert gate.unseen_bigrams(source, ["the", "service", "was", "slow", "."]) == []
+    any_pair = styler(lm, judge, transfer, tmp_path, "gate: {min_new_bigram_count: 0}\n")
+    assert "perplexity" in any_pair.refusal(source, scrambled, "negative")
     assert gate.ratio(source, keeps) < gate.ratio(source, scrambled)
     assert "question" in gate.refusal(["how", "are", "you", "today", "?"],
                                       ["the", "staff", "were", "rude", "today", "!"], "negative")

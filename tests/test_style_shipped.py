@@ -9,7 +9,7 @@ from dialogue.style.training.evaluate import evaluate
 from dialogue.style.training.metrics import classify
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL, StyleTransfer
 
-# the first 200 test sentences of each class; the whole test split measures 85.5 % (bar 85 %)
+# the first 200 test sentences of each class; the whole test split measures 87.4 % (bar 85 %)
 ACCURACY_BAR = 0.8
 NEGATIVE = ["the food was cold and the service was slow .",
             "the waiter was rude to us all night .",

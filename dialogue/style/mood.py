@@ -7,7 +7,10 @@ The style-transfer model proposes a styled reply; the gate accepts it only when
     (words with a letter that are not stop words: sentiment words count too, so trading
     "thank" for "disappointed" is a loss), and
 (c) its bigram perplexity is at most ``gate.max_perplexity_ratio`` times the unstyled
-    reply's (a language model that knows conversation, :mod:`dialogue.style.ngram`),
+    reply's (a language model that knows conversation, :mod:`dialogue.style.ngram`), and
+    every word pair it has that the reply did not was counted at least
+    ``gate.min_new_bigram_count`` times in that model's data ("I am a great trained to
+    chat" has "great trained", which neither reviews nor conversation say),
 
 and, with ``gate.keep_questions``, a question stays a question ("Where have you been?" must
 not become "Always have you been!": every word of it is a stop word, so (b) cannot see it),
@@ -21,6 +24,7 @@ said unchanged. Each result says where its text came from (:data:`SOURCES`).
 
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,7 +36,7 @@ from dialogue.style.config import CLASSIFIER_FILE, STYLE_FILE
 from dialogue.style.files import STOPWORDS, load_classifier
 from dialogue.style.mood_config import BIGRAM_FILE, MoodStyleConfig, load_mood_config
 from dialogue.style.nets import SentimentClassifier
-from dialogue.style.ngram import BigramLM
+from dialogue.style.ngram import BOS, EOS, BigramLM
 from dialogue.style.text import NUMBER, STYLES, numbers, tokenize
 from dialogue.style.transfer import StyleTransfer, readable
 from textnets.batch import make_batch
@@ -120,6 +124,15 @@ class MoodStyler:
         """Bigram perplexity of ``output`` over that of ``source``."""
         return self.lm.perplexity(output) / self.lm.perplexity(source)
 
+    def unseen_bigrams(self, source: Sequence[str], words: Sequence[str]
+                       ) -> list[tuple[str, str]]:
+        """The word pairs of ``words`` that ``source`` does not have and that the bigram
+        model saw fewer than ``gate.min_new_bigram_count`` times."""
+        ends = [BOS, *(w.lower() for w in words), EOS]
+        had = set(itertools.pairwise([BOS, *(w.lower() for w in source), EOS]))
+        return [p for p in itertools.pairwise(ends) if p not in had
+                and self.lm.seen(*p) < self.cfg.gate.min_new_bigram_count]
+
     def refusal(self, source: Sequence[str], words: Sequence[str], mood: str) -> str | None:
         """Why the gate refuses the styled ``words`` (None when it accepts them)."""
         if not words:
@@ -134,6 +147,8 @@ class MoodStyler:
         if kept < self.cfg.gate.min_content_kept:
             return (f"it keeps {kept:.0%} of the content words, fewer than "
                     f"{self.cfg.gate.min_content_kept:.0%}")
+        if unseen := self.unseen_bigrams(source, words):
+            return f"it says {' '.join(unseen[0])!r}, never seen in conversation or reviews"
         ratio = self.ratio(source, words)
         if ratio > self.cfg.gate.max_perplexity_ratio:
             return (f"its perplexity is {ratio:.2f}x the unstyled reply's, more than "

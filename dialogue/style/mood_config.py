@@ -18,6 +18,7 @@ class GateConfig(StrictModel):
     min_content_kept: float = Field(ge=0, le=1)
     max_perplexity_ratio: float = Field(gt=0)
     keep_questions: bool
+    min_new_bigram_count: int = Field(ge=0)
 
 
 class MoodPhrases(StrictModel):

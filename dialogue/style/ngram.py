@@ -79,6 +79,16 @@ class BigramLM:
         """``<s>``, the words' ids (``<unk>`` for unknown ones) and ``</s>``."""
         return [0, *(self.stoi.get(w, 2) for w in words), 1]
 
+    def seen(self, prev: str, word: str) -> int:
+        """How often the bigram ``prev word`` was counted (0 for bigrams seen fewer than the
+        ``keep_min`` times kept, or with an unknown word); ``<s>``/``</s>`` mark the ends."""
+        a, b = self.stoi.get(prev, 2), self.stoi.get(word, 2)
+        if 2 in (a, b):
+            return 0
+        key = a * len(self.words) + b
+        at = int(np.searchsorted(self.keys, key))
+        return int(self.counts[at]) if at < len(self.keys) and self.keys[at] == key else 0
+
     def prob(self, prev: int, word: int) -> float:
         """``p(word | prev)`` for two ids (module docstring)."""
         cont = float(self.p_cont[word])

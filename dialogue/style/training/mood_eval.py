@@ -91,7 +91,7 @@ def _raw(styler: MoodStyler, lines: list[str], replies: list[MoodReply], mood: s
 def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
     """How often each gate condition refused the model's reply."""
     kinds = {"judge": "judge", "question": "question", "number": "number",
-             "content": "content words", "perplexity": "perplexity"}
+             "content": "content words", "word pair": "never seen", "perplexity": "perplexity"}
     counts = dict.fromkeys([*kinds, "not decoded"], 0)
     for r in replies:
         if r.source != "fallback":
