@@ -22,7 +22,8 @@ from dialogue.persona import Persona
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Action, Answer, DialogueError
 from dialogue.qa.bot import QABot
-from dialogue.qa.text import content_words, normalise
+from dialogue.qa.places import TIME_WORDS
+from dialogue.qa.text import STOPWORDS, content_words, normalise
 
 log = logging.getLogger("companion.dialogue")
 
@@ -36,6 +37,7 @@ INTRO = re.compile(r"\b(?:my name is|my name's|call me|i am called|i'm called)\s
                    r"([A-Za-z][\w'-]*(?-i: [A-Z][\w'-]*)?)", re.I)
 SHORT_INTRO = re.compile(r"^(?:(?:hi|hello|hey)\b[\s,!.]*)?(?:i'm|i am)\s+"
                          r"((?-i:[A-Z][a-z][\w'-]*))[\s.!]*$", re.I)  # "Hi, I'm Anna."
+LATER = frozenset({"back", "again", "sometime", "soon", "anytime", "whenever"})  # "call me back"
 ASK_NAME = re.compile(r"\b(?:what(?:'s| is) my name|do you (?:know|remember) my name)\b", re.I)
 UNAVAILABLE = ("I'm sorry, my chit-chat model isn't loaded, so I can't chat freely right now. "
                "I can tell you the time or the weather, read the news, look things up, show "
@@ -174,7 +176,7 @@ class DialogueManager:
         if about_me is not None:
             return Reply(about_me, "persona", mood=mood)
         greeting = ""
-        intro = INTRO.search(said) or self._short_intro(said)
+        intro = self._intro(said) or self._short_intro(said)
         if intro:
             ctx.name = intro.group(1).strip().title()
             greeting = f"Nice to meet you, {ctx.name}!"
@@ -196,6 +198,14 @@ class DialogueManager:
             reply = Reply(f"{greeting} {reply.text}", reply.route, reply.action, reply.tablet,
                           mood, found=reply.found)
         return reply
+
+    @staticmethod
+    def _intro(said: str) -> re.Match[str] | None:
+        """ "My name is Anna", "call me Anna"; not "call me this week" or "call me back"
+        (a transcript has no capitals to tell a name by)."""
+        intro = INTRO.search(said)
+        first = intro.group(1).split()[0].lower() if intro else ""
+        return None if first in STOPWORDS or first in TIME_WORDS or first in LATER else intro
 
     def _short_intro(self, said: str) -> re.Match[str] | None:
         """ "I'm Anna" as a whole line; not "I'm Happy" (an adjective WordNet knows)."""
