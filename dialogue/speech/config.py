@@ -35,6 +35,25 @@ class SourceWeights(StrictModel):
 
     own: float = Field(gt=0)
     conversation: float = Field(gt=0)
+    topics: float = Field(gt=0)
+
+
+class TopicsConfig(StrictModel):
+    """Questions about WordNet's most common nouns and people (training/topics.py)."""
+
+    nouns: int = Field(ge=0)
+    people: int = Field(ge=0)
+    noun_frames: list[str] = Field(min_length=1)
+    people_frames: list[str] = Field(min_length=1)
+    seed: int = Field(ge=0)
+    wordnet_dir: Path
+
+    @model_validator(mode="after")
+    def _one_slot(self) -> Self:
+        for frame in [*self.noun_frames, *self.people_frames]:
+            if frame.count("{}") != 1:
+                raise ValueError(f"frame {frame!r} must hold one {{}} for the topic")
+        return self
 
 
 class SpeechTrainConfig(StrictModel):
@@ -48,6 +67,7 @@ class SpeechTrainConfig(StrictModel):
     papaya_dir: Path | None
     weights: SourceWeights
     min_count: float = Field(ge=0)
+    topics: TopicsConfig
 
     def resolved(self, folder: Path | None) -> Path | None:
         """``folder`` from the repository root unless absolute (None stays None)."""

