@@ -11,8 +11,9 @@ content words: acting on it gives a fitting answer. For each threshold the table
 share of transcripts accepted and the share of accepted ones that are usable, in a quiet
 room within 3 m (where people talk to a robot) and over all six conditions, and the worth of
 the threshold there: a usable transcript acted on counts +1, an unusable one acted on -1 (a
-wrong answer), a line asked for again -``ASK_COST``. The chosen threshold is the one of most
-worth within 3 m of a quiet room. (The rule before the acoustic model was adapted, the
+wrong answer), a line asked for again -``ASK_COST``. It prints the threshold of most worth
+within 3 m of a quiet room (docs/BENCHMARKS.md says how the shipped one was read from the
+table). (The rule before the acoustic model was adapted, the
 smallest threshold with 90 % of the accepted transcripts usable, chooses nothing on these
 lines: confidence does not separate them that well.)
 
