@@ -175,6 +175,8 @@ class ListeningConfig(StrictModel):
     promise: str
     promise_action: str
     activities: dict[str, str]
+    closer_below_snr_db: float
+    come_closer: str
 
 
 class StandByConfig(StrictModel):

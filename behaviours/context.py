@@ -67,7 +67,8 @@ class Context:
     questions: QuestionGenerator | None = None
     facing: FacingEstimator | None = None    # which way a person in a box looks
     recognizer: Any = None                   # dialogue.speech.SpeechRecognizer: sounds -> words
-    ask_again: Callable[[int], None] = lambda line: None   # "say that again" reaches people
+    ask_again: Callable[[int, bool], None] = lambda line, closer: None  # "say that again"
+                                             # (and "come closer") reaches people
     camera_rate: float = 2.0                 # frames per second while no one is tracked
     inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far

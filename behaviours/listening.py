@@ -44,13 +44,16 @@ def reply_to(behaviour: ContextBehaviour, said: HeardLine, positive: bool,
     """Answer the line ``said`` through the dialogue manager in the robot's mood: say the
     reply (followed by ``promise`` when the reply asks for an action, which the caller
     starts later) and show its tablet page. A line the recogniser was unsure of is asked
-    for again, and its speaker hears the request. The reply, and how long saying it takes
-    (s)."""
+    for again, and its speaker hears the request; when its speech hardly stood over the
+    noise (``listening.closer_below_snr_db``), the robot asks them to come closer too. The
+    reply, and how long saying it takes (s)."""
     ctx, mood = behaviour.ctx, "positive" if positive else "negative"
     reply = ctx.dialogue.respond(said.text, mood, confidence=said.confidence)
-    if reply.route == "say_again":
-        ctx.ask_again(said.line)
     text = f"{reply.text} {promise}" if promise and reply.action is not None else reply.text
+    if reply.route == "say_again":
+        closer = said.snr_db < ctx.config.listening.closer_below_snr_db
+        text = ctx.config.listening.come_closer if closer else text
+        ctx.ask_again(said.line, closer)
     seconds = ctx.speaker.say(text, behaviour=behaviour.name, to=said.person, line=said.line,
                               in_reply_to=said.text, route=reply.route, found=reply.found,
                               mood=mood)

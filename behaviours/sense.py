@@ -94,7 +94,7 @@ class Sense(ContextBehaviour):
         to = self.addressee.judge(words.text).to
         self._take(HeardLine(sound.line, sound.t, sound.person, words.text, to,
                              sound.bearing, words.confidence,
-                             unclear=not recognizer.understood(words)))
+                             unclear=not recognizer.understood(words), snr_db=words.snr_db))
 
     def _take(self, line: HeardLine) -> None:
         """Queue a line meant for the robot (heard, or typed on its tablet); log it."""

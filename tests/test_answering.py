@@ -4,16 +4,18 @@ the answer asks for."""
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import pytest
 
 from app.report import interaction_metrics
-from app.run import build_run
+from app.run import RunOptions, build_run, prepare_scenario, run_scenario
 from app.sim.layout import Placement
 from app.sim.robot import wrap_angle
 from app.sim.scenario import Event, Start, load_scenario
+from behaviours.config import load_behaviour_config
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -95,3 +97,18 @@ def test_encouragement_and_the_addressee_are_made_out_from_the_words(tmp_path):
     overheard = [e for e in events if e["kind"] == "overheard"]
     assert [(e["line"], e["to"]) for e in overheard] == [(4, "grandma")]
     assert not [e for e in events if e["kind"] == "say" and e.get("line") == 4]
+
+
+def test_a_line_too_faint_to_make_out_brings_its_speaker_closer(tmp_path):
+    """The low-battery night: the robot charges on its dock and Daniel speaks from across
+    the room, his voice hardly over the noise. The robot asks him to come closer; he walks
+    up, says it again, louder at the microphones, and gets his answer."""
+    scenario = prepare_scenario(ROOT / "worlds" / "low_battery_night.yaml", duration=285.0,
+                                seed=0)
+    run_scenario(scenario, tmp_path / "run", RunOptions(), progress=False)
+    events = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").open()]
+    said = {e["line"]: e for e in events if e["kind"] == "line_said"}
+    replies = {e["line"]: e for e in events if e["kind"] == "say" and e.get("line")}
+    assert replies[1]["text"] == load_behaviour_config().listening.come_closer
+    assert said[2]["how"] == "repeat" and said[2]["level_db"] >= said[1]["level_db"] + 10
+    assert replies[2]["route"] == "time" and "New York" in replies[2]["text"]

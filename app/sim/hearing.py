@@ -51,7 +51,8 @@ class Sound:
 class HeardLine:
     """A line the robot recognised in a :class:`Sound`: ``text`` is its transcript,
     ``confidence`` how sure the recogniser was; ``promised``: the robot told the speaker it
-    would answer later; ``unclear``: too unsure to act on, so the robot asks again."""
+    would answer later; ``unclear``: too unsure to act on, so the robot asks again;
+    ``snr_db``: the speech's loudness over the noise, as the recogniser estimated it."""
 
     line: int
     t: float
@@ -62,6 +63,7 @@ class HeardLine:
     confidence: float = 1.0
     promised: bool = False
     unclear: bool = False
+    snr_db: float = float("inf")   # how far the speech stood over the noise (typed: no noise)
 
     @property
     def to_robot(self) -> bool:

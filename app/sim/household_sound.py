@@ -27,6 +27,7 @@ from app.sim.world import SayEvent, World
 log = logging.getLogger(__name__)
 REPEAT_AFTER_S = 1.0     # a person asked to say a line again starts this long after
 KEPT_LINES = 64          # lines remembered for repeating
+CLOSER_M = 1.2           # a person asked to come closer stops this far from the robot
 
 
 def household_acoustics(scenario: Scenario, world: World, robot: Robot) -> Acoustics:
@@ -90,14 +91,17 @@ class HouseholdSound:
         return Sound(line, event.t, event.person, self.microphones.bearing(here, at), audio,
                      RATE)
 
-    def asked_again(self, line: int, t: float) -> SayEvent | None:
+    def asked_again(self, line: int, t: float, closer: bool = False) -> SayEvent | None:
         """The robot asked for ``line`` again: the same words, said again after a moment,
-        by a person who repeats when asked, once (None otherwise)."""
+        by a person who repeats when asked, once (None otherwise). Asked to come closer,
+        they first walk up to the robot (:meth:`World.approach`) and say it on arriving."""
         event, kind = self._lines.get(line, (None, ""))
         if event is None or kind == "repeat":
             return None
         person = next((p for p in self.scenario.people if p.name == event.person), None)
         if person is None or not person.repeat_if_asked:
             return None
-        return SayEvent(t + REPEAT_AFTER_S, event.person, event.text, event.to)
+        x, y, _ = self.robot.pose()
+        walk_s = self.world.approach(event.person, t, (x, y), CLOSER_M) if closer else 0.0
+        return SayEvent(t + walk_s + REPEAT_AFTER_S, event.person, event.text, event.to)
 

@@ -106,10 +106,10 @@ class Simulation:
     def _speak(self, event: SayEvent, kind: str) -> None:
         self._speaking.append((event.t + speech_seconds(event.text), event, kind))
 
-    def ask_again(self, line: int) -> None:
-        """The robot asked for ``line`` to be said again: its speaker repeats it, if they
-        do that (``repeat_if_asked``)."""
-        if (again := self.sound.asked_again(line, self.t)) is not None:
+    def ask_again(self, line: int, closer: bool = False) -> None:
+        """The robot asked for ``line`` to be said again (and, with ``closer``, its speaker
+        to come closer): its speaker repeats it, if they do that (``repeat_if_asked``)."""
+        if (again := self.sound.asked_again(line, self.t, closer)) is not None:
             self._speak(again, "repeat")
 
     def stop_helper(self) -> None:

@@ -32,6 +32,7 @@ DOOR_HEIGHT = 2.05
 GROUND = (0.45, 0.47, 0.45, 1.0)  # outside the rooms
 CEILING: Rgb = (0.96, 0.96, 0.94)
 STOP_SHORT = 0.7  # a person walking up to another stops this far from them
+APPROACH_SPEED = 0.7  # m/s, a person asked by the robot to come closer
 
 
 # --- small value types ----------------------------------------------------------------
@@ -513,6 +514,25 @@ class World:
                     x, y = (c, at) if axis == "h" else (at, c)
                     return Pose2D(x + 0.4 * nx, y + 0.4 * ny, math.atan2(ny, nx))
         raise KeyError(door_name)
+
+    def approach(self, name: str, t: float, target: tuple[float, float], stop_m: float,
+                 speed: float = APPROACH_SPEED) -> float:
+        """``name`` walks straight towards ``target`` from time ``t``, stopping ``stop_m``
+        short of it and facing it (standing up first); the seconds the walk takes (0 when
+        they are already that close, or not in the house)."""
+        if name not in self.people:
+            return 0.0
+        here = self._where(name, t)
+        dx, dy = target[0] - here.x, target[1] - here.y
+        dist = math.hypot(dx, dy)
+        if dist <= stop_m:
+            return 0.0
+        f = (dist - stop_m) / dist
+        self._walks[name] = _Walk(t, (here.x, here.y), here.yaw,
+                                  (here.x + f * dx, here.y + f * dy), speed, math.atan2(dy, dx))
+        if self.people[name].pose == "sitting":
+            self.people[name].set_pose("standing")
+        return (dist - stop_m) / speed
 
     def _where(self, name: str, t: float) -> Pose2D:
         """Where a present person is at time ``t`` (following their current walk)."""
