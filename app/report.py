@@ -84,12 +84,19 @@ ANSWERED_WITHIN_S = 15.0  # a line counts as answered when the reply starts this
 NOT_ANSWERS = ("say_again", "not_understood")   # replies that ask again or give up
 
 
+def _original(said: dict[int, dict[str, Any]], line: dict[str, Any]) -> dict[str, Any]:
+    """The ``line_said`` event that ``line`` repeats (its speaker's earlier line with the
+    same words), or ``line`` itself when it is no repeat."""
+    if line["how"] != "repeat":
+        return line
+    return next((s for s in said.values() if s["line"] < line["line"] and s["how"] != "repeat"
+                 and s["person"] == line["person"] and s["text"] == line["text"]), line)
+
+
 def _a_line_for_the_robot(said: dict[int, dict[str, Any]], line: dict[str, Any]) -> bool:
     """Whether ``line`` (a ``line_said`` event) was said to the robot and is not
     encouragement; a repeat is what it repeats."""
-    if line["how"] == "repeat":
-        line = next((s for s in said.values() if s["line"] < line["line"]
-                     and s["person"] == line["person"] and s["text"] == line["text"]), line)
+    line = _original(said, line)
     return line["to"] in AUDIENCES and line["how"] != "encourage"
 
 
@@ -136,12 +143,11 @@ def encouragement_metrics(said: dict[int, dict[str, Any]], events: list[dict[str
     """The scenario's words of encouragement, and those the robot made out as praise (the
     line itself or the speaker's repeat of it); and every line it took as encouragement."""
     taken = {e["line"] for e in events if e["kind"] == "encouraged"}
-    meant = [e for e in said.values() if e["how"] == "encourage"]
+    made_out = {_original(said, said[line])["line"] for line in taken if line in said}
+    meant = [e["line"] for e in said.values() if e["how"] == "encourage"]
     return {
         "encouragement_said": len(meant),
-        "encouragement_made_out": sum(
-            any(s["line"] in taken for s in said.values() if s["line"] >= e["line"]
-                and s["person"] == e["person"] and s["text"] == e["text"]) for e in meant),
+        "encouragement_made_out": len(made_out.intersection(meant)),
         "encouraged": len(taken),
     }
 

@@ -20,9 +20,10 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from app.sim.scenario import AUDIENCES
 from dialogue.conversation import AddresseeConfig, load_conversation_config
 
-ROBOT, EVERYONE = "robot", "everyone"
+ROBOT, EVERYONE = AUDIENCES
 _WORD = re.compile(r"[a-z]+(?:'[a-z]+)?")
 
 
@@ -37,7 +38,7 @@ class Addressee:
     @property
     def to_robot(self) -> bool:
         """Whether the robot should take the line as said to it."""
-        return self.to in (ROBOT, EVERYONE)
+        return self.to in AUDIENCES
 
 
 class AddresseeJudge:

@@ -3,23 +3,22 @@ once in a frame, and nothing when WordNet is missing."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
+from dialogue.conversation import load_conversation_config
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.training.topics import general_english, topic_lines
 from dialogue.speech.training.train import full_dictionary
 
+WORDNET = load_conversation_config().knowledge.wordnet_dir
 
-def small(nouns: int, people: int, wordnet_dir: Path | None = None):
-    topics = load_speech_config().train.topics
-    update = {"nouns": nouns, "people": people}
-    return topics.model_copy(update=update | ({"wordnet_dir": wordnet_dir} if wordnet_dir
-                                              else {}))
+
+def small(nouns: int, people: int):
+    return load_speech_config().train.topics.model_copy(update={"nouns": nouns,
+                                                                "people": people})
 
 
 def test_the_most_common_nouns_and_people_are_asked_about() -> None:
     cfg = small(200, 20)
-    lines = topic_lines(cfg, cfg.wordnet_dir, set(full_dictionary()))
+    lines = topic_lines(cfg, WORDNET, set(full_dictionary()))
     assert len(lines) == 220
     starts = tuple(f.split("{}")[0] for f in cfg.noun_frames)
     assert all(" ".join(line).startswith(starts) for line in lines[:200])
@@ -33,5 +32,5 @@ def test_the_most_common_nouns_and_people_are_asked_about() -> None:
 
 
 def test_without_wordnet_there_are_no_topic_questions(tmp_path) -> None:
-    cfg = small(10, 10, tmp_path)
+    cfg = small(10, 10)
     assert topic_lines(cfg, tmp_path, set(full_dictionary())) == []

@@ -22,6 +22,7 @@ import numpy as np
 from pydantic import Field
 
 from app.core.config_files import StrictModel
+from app.sim.scenario import AUDIENCES
 
 
 class MicrophonesConfig(StrictModel):
@@ -68,7 +69,7 @@ class HeardLine:
     @property
     def to_robot(self) -> bool:
         """Whether the line was meant for the robot (or for everyone)."""
-        return self.to in ("robot", "everyone")
+        return self.to in AUDIENCES
 
 
 class Microphones:

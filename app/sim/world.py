@@ -290,6 +290,16 @@ class _Walk:
         return self.start[0] + f * dx, self.start[1] + f * dy, heading, walked, done
 
 
+def _short_of(here: Pose2D, target: tuple[float, float], stop_m: float
+              ) -> tuple[tuple[float, float], float]:
+    """Where a walk from ``here`` towards ``target`` stops, ``stop_m`` short of it (or
+    ``here`` when already that close), and the heading that faces ``target``."""
+    dx, dy = target[0] - here.x, target[1] - here.y
+    dist = math.hypot(dx, dy)
+    f = max(dist - stop_m, 0.0) / dist if dist > 1e-9 else 0.0
+    return (here.x + f * dx, here.y + f * dy), math.atan2(dy, dx)
+
+
 def _pose(place: Placement) -> Pose2D:
     return Pose2D(place.x, place.y, math.radians(place.yaw))
 
@@ -523,16 +533,18 @@ class World:
         if name not in self.people:
             return 0.0
         here = self._where(name, t)
-        dx, dy = target[0] - here.x, target[1] - here.y
-        dist = math.hypot(dx, dy)
+        dist = math.dist((here.x, here.y), target)
         if dist <= stop_m:
             return 0.0
-        f = (dist - stop_m) / dist
-        self._walks[name] = _Walk(t, (here.x, here.y), here.yaw,
-                                  (here.x + f * dx, here.y + f * dy), speed, math.atan2(dy, dx))
+        self._start_walk(name, t, here, *_short_of(here, target, stop_m), speed)
+        return (dist - stop_m) / speed
+
+    def _start_walk(self, name: str, t: float, here: Pose2D, goal: tuple[float, float],
+                    yaw_end: float | None, speed: float) -> None:
+        """``name`` walks from ``here`` to ``goal`` from time ``t`` (standing up first)."""
+        self._walks[name] = _Walk(t, (here.x, here.y), here.yaw, goal, speed, yaw_end)
         if self.people[name].pose == "sitting":
             self.people[name].set_pose("standing")
-        return (dist - stop_m) / speed
 
     def _where(self, name: str, t: float) -> Pose2D:
         """Where a present person is at time ``t`` (following their current walk)."""
@@ -560,14 +572,8 @@ class World:
             yaw_end = None if e.walk_to.yaw is None else math.radians(e.walk_to.yaw)
             if e.walk_to.person is not None:
                 other = self._where(e.walk_to.person, t)
-                dx, dy = other.x - here.x, other.y - here.y
-                dist = math.hypot(dx, dy)
-                f = max(dist - STOP_SHORT, 0.0) / dist if dist > 1e-9 else 0.0
-                goal, yaw_end = (here.x + f * dx, here.y + f * dy), math.atan2(dy, dx)
-            self._walks[name] = _Walk(t, (here.x, here.y), here.yaw, goal,  # type: ignore[arg-type]
-                                      e.walk_to.speed, yaw_end)
-            if self.people[name].pose == "sitting":
-                self.people[name].set_pose("standing")
+                goal, yaw_end = _short_of(here, (other.x, other.y), STOP_SHORT)
+            self._start_walk(name, t, here, goal, yaw_end, e.walk_to.speed)  # type: ignore[arg-type]
         elif e.pose is not None:
             here = self._where(name, t)
             self._walks.pop(name, None)

@@ -46,7 +46,6 @@ class TopicsConfig(StrictModel):
     noun_frames: list[str] = Field(min_length=1)
     people_frames: list[str] = Field(min_length=1)
     seed: int = Field(ge=0)
-    wordnet_dir: Path
 
     @model_validator(mode="after")
     def _one_slot(self) -> Self:

