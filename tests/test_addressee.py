@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import pytest
 
+from app.core.config_files import ConfigError
 from dialogue.addressee import AddresseeJudge
+from dialogue.conversation import load_conversation_config
 
 HOUSEHOLD = ["Margaret", "Harold", "Nurse Lin", "Tom"]
 
@@ -33,3 +35,13 @@ def test_the_vocative_decides_whom_a_line_is_for(text: str, to: str) -> None:
 def test_the_robot_never_takes_its_own_name_for_someone_elses() -> None:
     judge = AddresseeJudge("Tom", HOUSEHOLD)       # a household member shares its name
     assert judge.judge("Tom, sing us a song").to == "robot"
+
+
+@pytest.mark.parametrize("override", ["addressee: {first_words: 0}\n",
+                                      "addressee: {openers: []}\n",
+                                      "addressee: {typo: 1}\n"])
+def test_bad_addressee_config_is_an_error(tmp_path, override: str) -> None:
+    path = tmp_path / "conversation.yaml"
+    path.write_text(override)
+    with pytest.raises(ConfigError, match="addressee"):
+        load_conversation_config(path)

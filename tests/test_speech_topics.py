@@ -3,6 +3,10 @@ once in a frame, and nothing when WordNet is missing."""
 
 from __future__ import annotations
 
+import pytest
+
+from app.cli import main
+from app.core.config_files import ConfigError
 from dialogue.conversation import load_conversation_config
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.training.topics import general_english, topic_lines
@@ -34,3 +38,14 @@ def test_the_most_common_nouns_and_people_are_asked_about() -> None:
 def test_without_wordnet_there_are_no_topic_questions(tmp_path) -> None:
     cfg = small(10, 10)
     assert topic_lines(cfg, tmp_path, set(full_dictionary())) == []
+
+
+def test_a_frame_without_a_slot_is_refused_with_exit_2(tmp_path, capsys) -> None:
+    bad = tmp_path / "speech.yaml"
+    bad.write_text("train: {topics: {noun_frames: ['what is it']}}\n")
+    with pytest.raises(ConfigError, match=r"train\.topics: .*what is it"):
+        load_speech_config(bad)
+    assert main(["train", "asr", "--only", "language", "--config", str(bad),
+                 "--out", str(tmp_path / "out")]) == 2
+    assert "must hold one {} for the topic" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()

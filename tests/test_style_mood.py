@@ -149,7 +149,7 @@ def test_a_closing_joins_the_opening_only_when_no_opening_convinces_the_judge(
 @pytest.mark.parametrize("override", [
     "gate: {min_content_kept: 1.5}\n", "gate: {max_perplexity_ratio: 0}\n",
     "openings: {positive: []}\n", "openings: {negative: ['  ']}\n", "gate: {typo: 1}\n",
-    "bigram: {discount: 1.0}\n"])
+    "bigram: {discount: 1.0}\n", "gate: {min_new_bigram_count: -1}\n"])
 def test_bad_mood_config_is_an_error(tmp_path, override):
     path = tmp_path / "mood.yaml"
     path.write_text(override)
