@@ -3,8 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Self
 
-from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveFloat, PositiveInt
+from pydantic import (
+    Field,
+    NonNegativeFloat,
+    NonNegativeInt,
+    PositiveFloat,
+    PositiveInt,
+    model_validator,
+)
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import REPO_ROOT
@@ -59,6 +67,7 @@ class ChargeConfig(StrictModel):
     done: str
     dock_blocked: str
     robot_radius: PositiveFloat
+    body_radius: PositiveFloat
     grid_resolution: PositiveFloat
     waypoint_tolerance: PositiveFloat
     predock_distance: PositiveFloat
@@ -68,11 +77,20 @@ class ChargeConfig(StrictModel):
     sensed_clearance_m: NonNegativeFloat
     replan_sensed_s: PositiveFloat
     security_distance_m: NonNegativeFloat
+    slow_distance_m: PositiveFloat
     security_time_s: NonNegativeFloat
     depth_points: DepthPointsConfig
     dock_position_tolerance: PositiveFloat
     dock_yaw_tolerance_deg: PositiveFloat
     timeout_s: PositiveFloat
+
+    @model_validator(mode="after")
+    def _distances(self) -> Self:
+        if self.slow_distance_m <= self.security_distance_m:
+            raise ValueError("need slow_distance_m > security_distance_m")
+        if self.body_radius > self.robot_radius:
+            raise ValueError("need body_radius <= robot_radius")
+        return self
 
 
 class RestConfig(StrictModel):

@@ -69,6 +69,7 @@ class Context:
     recognizer: Any = None                   # dialogue.speech.SpeechRecognizer: sounds -> words
     ask_again: Callable[[int, bool], None] = lambda line, closer: None  # "say that again"
                                              # (and "come closer") reaches people
+    ask_way: Callable[[], None] = lambda: None   # "could someone clear the way" reaches them
     camera_rate: float = 2.0                 # frames per second while no one is tracked
     inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far
@@ -114,4 +115,5 @@ def make_context(sim: Any, config: BehaviourConfig | None = None,
                    config=config or load_behaviour_config(), clock=clock, events=events,
                    speaker=Speaker(events, audio_dir, sim.robot.cfg.voice), detector=detector,
                    camera_rate=scenario.camera_rate, ask_again=sim.ask_again,
+                   ask_way=sim.ask_way,
                    household=tuple(p.name for p in scenario.people), **services)

@@ -4,20 +4,55 @@ scanners at every tick and, when Sense took a head-camera frame this tick, its d
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from app.sim.navigation import Navigator
 from behaviours.context import Context
 from behaviours.person_range import PersonRange
 
+Velocity = tuple[float, float, float]
+
 
 class ObstacleSensing:
-    """Feeds ``navigator`` the robot's scans and depth frames."""
+    """Feeds ``navigator`` the robot's scans and depth frames, and holds back the base's
+    moves near what they sensed."""
 
     def __init__(self, ctx: Context, navigator: Navigator) -> None:
         self.ctx, self.navigator = ctx, navigator
         self.range = PersonRange(ctx.robot, ctx.config.perception)
         self._frame_t = -np.inf
+
+    @classmethod
+    def for_charge(cls, ctx: Context) -> ObstacleSensing:
+        """Sensing for a planner on the floor map with the charge skill's settings."""
+        cfg = ctx.config.charge
+        return cls(ctx, Navigator(ctx.world, cfg.grid_resolution, cfg.robot_radius,
+                                  cfg.obstacle_memory_s, cfg.static_margin_m,
+                                  cfg.sensed_clearance_m, cfg.body_radius))
+
+    def guard(self, pose: tuple[float, float, float], command: Velocity,
+              ) -> tuple[Velocity, bool]:
+        """``command`` as the obstacles sensed lately allow, and whether its translation is
+        held. Held (the base still turns) while one lies on the side the base would move to
+        within ``security_distance_m`` of its shell, or straight in its way
+        (``robot_radius`` to either side) within that plus the way covered in
+        ``security_time_s`` at the commanded speed. Otherwise the speed falls in proportion
+        while the nearest on that side is within ``slow_distance_m`` of the shell, to
+        nothing at ``security_distance_m`` (speed and separation)."""
+        vx, vy, wz = command
+        if (vx, vy) == (0.0, 0.0):
+            return command, False
+        cfg, memory = self.ctx.config.charge, self.navigator.memory
+        near = self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
+        heading = pose[2] + math.atan2(vy, vx)
+        if memory.ahead(pose[:2], heading, near + math.hypot(vx, vy) * cfg.security_time_s,
+                        cfg.robot_radius, near):
+            return (0.0, 0.0, wz), True
+        gap = memory.nearest_ahead(pose[:2], heading) - near
+        share = min(1.0, gap / (cfg.slow_distance_m - cfg.security_distance_m))
+        return (vx * share, vy * share, wz), False
 
     def update(self, now: float, depth: np.ndarray | None, frame_t: float) -> None:
         """A laser scan now, and the depth frame if it was taken now (the camera pose it

@@ -11,14 +11,17 @@ it, so the head camera's depth frames add their points too.
 ``--crossers N`` adds N people to each trial who walk back and forth across the robot's
 way: each crosses the path that the floor map alone gives (at a uniform 25-75 % of its
 length, square to it, out to a drawn 1-2 m on either side as far as the floor is free,
-at least 0.4 m, at 0.6-1.2 m/s, from a uniform phase). A
+at least 0.4 m, and 0.6 m clear of the last straight into the dock; at 0.6-1.2 m/s, from
+a uniform phase). Like every person in the
+simulation they go round the robot rather than into it, keeping the distance people keep
+from each other (``World.advance``); with ``--blind-walkers`` nobody does. A
 *contact* is the robot's own move bringing it within ``--contact-m`` of a person's body
 (the simulator's closest points, for scoring only; the move closed at least ``DRIVEN_M``
-on them in that step); ``touched`` counts any such closeness, also a scripted person
-walking into a robot that stands, creeps or turns on the spot (they do not give way).
+on them in that step); ``touched`` counts any such closeness, also a person
+walking into a robot that stands, creeps or turns on the spot.
 
 Usage: python bench/bench_charge.py [--trials 100] [--seed 0] [--world NAME ...]
-       [--crossers N] [--camera] [--json PATH]
+       [--crossers N] [--blind-walkers] [--camera] [--json PATH]
 """
 
 from __future__ import annotations
@@ -53,13 +56,34 @@ PERSON_RADIUS_M = 0.25   # m kept from the map's obstacles by a walk across the 
 MIN_SIDE_M = 0.4   # m: a walk reaches at least this far to either side of the way
 TRIES = 10
 DRIVEN_M = 0.005   # m the robot's own move in one step must close on a person to be its doing
+DOCK_CLEAR_M = 0.6   # m a walk keeps from the dock's last straight (robot radius and a person's)
+
+
+def apart(a: tuple[Point, Point], b: tuple[Point, Point]) -> float:
+    """The least distance (m) between the segments ``a`` and ``b`` (0 where they cross)."""
+    def cross(o: Point, p1: Point, p2: Point) -> float:
+        return (p1[0] - o[0]) * (p2[1] - o[1]) - (p1[1] - o[1]) * (p2[0] - o[0])
+
+    def to_segment(q: Point, s: tuple[Point, Point]) -> float:
+        (x0, y0), (x1, y1) = s
+        length = (x1 - x0) ** 2 + (y1 - y0) ** 2
+        f = 0.0 if length == 0 else min(max(((q[0] - x0) * (x1 - x0) + (q[1] - y0) * (y1 - y0))
+                                            / length, 0.0), 1.0)
+        return math.dist(q, (x0 + f * (x1 - x0), y0 + f * (y1 - y0)))
+
+    if (cross(*a, b[0]) * cross(*a, b[1]) < 0) and (cross(*b, a[0]) * cross(*b, a[1]) < 0):
+        return 0.0
+    return min(to_segment(a[0], b), to_segment(a[1], b), to_segment(b[0], a),
+               to_segment(b[1], a))
 
 
 def crossing(walkable: OccupancyGrid, path: list[Point], rng: np.random.Generator,
-             ) -> tuple[Point, Point] | None:
+             dock_way: tuple[Point, Point]) -> tuple[Point, Point] | None:
     """The ends of a walk square to ``path`` across a uniform point of its middle half: on
     each side as far as a drawn 1-2 m while the way stays free for a person (``walkable``),
-    at least ``MIN_SIDE_M``; up to ``TRIES`` draws, else None."""
+    at least ``MIN_SIDE_M``, and ``DOCK_CLEAR_M`` from ``dock_way`` (the last straight,
+    pre-dock pose to dock: people cross the robot's way, they do not pace over its
+    charger); up to ``TRIES`` draws, else None."""
     legs = [math.dist(a, b) for a, b in itertools.pairwise(path)]
     if sum(legs) < 0.5:
         return None
@@ -80,7 +104,8 @@ def crossing(walkable: OccupancyGrid, path: list[Point], rng: np.random.Generato
                     centre, (centre[0] + (side + 0.1) * nx, centre[1] + (side + 0.1) * ny)):
                 side += 0.1
             ends.append((centre[0] + side * nx, centre[1] + side * ny))
-        if min(math.dist(centre, e) for e in ends) >= MIN_SIDE_M:
+        if (min(math.dist(centre, e) for e in ends) >= MIN_SIDE_M
+                and apart((ends[0], ends[1]), dock_way) >= DOCK_CLEAR_M):
             return ends[0], ends[1]
     return None
 
@@ -127,8 +152,10 @@ def closeness(sim: Simulation, before: tuple[float, float, float], limit: float,
 
 
 def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
-          crossers: int = 0, camera: bool = False, contact_m: float = 0.05) -> dict[str, Any]:
-    """One docking attempt from a random free pose; its outcome, timings and contacts."""
+          crossers: int = 0, camera: bool = False, contact_m: float = 0.05,
+          blind: bool = False) -> dict[str, Any]:
+    """One docking attempt from a random free pose; its outcome, timings and contacts
+    (with ``blind``, no one gives way to the robot)."""
     cfg = config.charge
     client = p.connect(p.DIRECT)
     try:   # the floor map, and the way it alone gives to the pre-dock pose
@@ -148,10 +175,13 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
         path = (navigator.plan(start[:2], (pre.x, pre.y)) or []) if crossers else []
     finally:
         p.disconnect(client)
+    dock_way = ((pre.x, pre.y), (dock.x, dock.y))
     people = [crosser(f"Crosser{i}", ends, cfg.timeout_s + 5.0, rng) for i in range(crossers)
-              if len(path) > 1 and (ends := crossing(walkable, path, rng)) is not None]
-    if people:
-        scenario = scenario.model_copy(update={"people": (*scenario.people, *people)})
+              if len(path) > 1 and (ends := crossing(walkable, path, rng, dock_way)) is not None]
+    everyone = (*scenario.people, *people)
+    if blind:
+        everyone = tuple(q.model_copy(update={"gives_way": False}) for q in everyone)
+    scenario = scenario.model_copy(update={"people": everyone})
     with Simulation(scenario) as sim:
         ctx = make_context(sim, config=config)
         sim.robot.set_pose(*start)
@@ -234,6 +264,8 @@ def main() -> None:
                         help="world names in worlds/ (default: all)")
     parser.add_argument("--crossers", type=int, default=0,
                         help="people per trial walking to and fro across the robot's way")
+    parser.add_argument("--blind-walkers", action="store_true",
+                        help="people walk into the robot rather than round it")
     parser.add_argument("--camera", action="store_true",
                         help="run Sense before the approach: depth frames add obstacle points")
     parser.add_argument("--contact-m", type=float, default=0.05,
@@ -246,8 +278,8 @@ def main() -> None:
     for name in names:
         scenario = load_scenario(WORLDS / f"{name}.yaml")
         rng = np.random.default_rng([args.seed, zlib.crc32(name.encode())])
-        trials = [trial(scenario, config, rng, args.crossers, args.camera, args.contact_m)
-                  for _ in range(args.trials)]
+        trials = [trial(scenario, config, rng, args.crossers, args.camera, args.contact_m,
+                        args.blind_walkers) for _ in range(args.trials)]
         rows.append(summary(name, trials))
         everything[name] = trials
     rows.append(summary("all", [t for ts in everything.values() for t in ts]))
@@ -256,6 +288,7 @@ def main() -> None:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps({"seed": args.seed, "trials_per_world": args.trials,
                                          "crossers": args.crossers, "camera": args.camera,
+                                         "blind_walkers": args.blind_walkers,
                                          "summary": rows, "trials": everything}, indent=1))
 
 

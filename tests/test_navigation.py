@@ -90,6 +90,20 @@ def test_start_inside_an_inflated_obstacle_snaps_to_a_free_cell():
     assert all(planner.grid.visible(a, b) for a, b in pairwise(path))
 
 
+def test_a_robot_in_a_pocket_behind_furniture_slides_out_where_its_base_fits(client):
+    w = world("dislikes_dancing", client)    # behind the armchair, its corner 0.6 m from the wall
+    nav = Navigator(w, RES, RADIUS, body=CFG.charge.body_radius)
+    body = nav.planner.body
+    start, goal = (0.43, 0.37), (4.6, 1.0)
+    path = nav.plan(start, goal)
+    assert path is not None and path[-1] == goal
+    slide = [start, *path[:next(k for k, q in enumerate(path) if nav.grid().is_free(*q)) + 1]]
+    assert len(slide) > 2                                 # not one straight slide: round the corner
+    assert all(body.visible(a, b) for a, b in pairwise(slide[1:]))
+    assert not body.clear_ahead(start, slide[-1])         # the straight slide would hit the chair
+    assert Navigator(w, RES, RADIUS).plan(start, goal)[0] == slide[-1]   # which it was
+
+
 def test_clear_ahead_skips_the_blocked_cells_around_the_start_only():
     box = Footprint("box", "furniture", 2.0, 1.5, 0.0, 0.3, 0.2)
     grid = OccupancyGrid.build([(0.0, 0.0, 4.0, 3.0)], [box], RES, RADIUS)

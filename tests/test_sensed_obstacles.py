@@ -126,3 +126,21 @@ def test_the_depth_camera_adds_the_person_it_sees(household):
     near = np.hypot(points[:, 0] - IN_FRONT[0], points[:, 1] - IN_FRONT[1]) < 0.35
     assert near.sum() >= 10                             # his body, from legs to chest
     assert (points[:, 0] < 6.1).all()                   # nothing beyond the wall
+
+
+@pytest.mark.parametrize(("offset", "share"), [((2.5, 0.0), 1.0), ((0.17, 0.63), None),
+                                               ((0.6, 0.0), 0.0)])
+def test_the_base_slows_near_a_person_ahead_and_stops_at_the_security_distance(
+        household, offset, share):
+    sim, nav = household
+    place(sim, (ROBOT[0] + offset[0], ROBOT[1] + offset[1]))
+    sensing = ObstacleSensing(make_context(sim, config=load_behaviour_config()), nav)
+    sensing.update(0.0, None, -math.inf)
+    (vx, vy, wz), held = sensing.guard(ROBOT, (0.5, 0.0, 0.3))
+    assert (vy, wz) == (0.0, 0.3)                       # the base may always turn
+    if share is None:                                  # to its left, within slow_distance_m
+        assert 0.0 < vx < 0.5 and not held
+    else:
+        assert vx == pytest.approx(0.5 * share) and held == (share == 0.0)
+    (vx, _, _), held = sensing.guard(ROBOT, (-0.5, 0.0, 0.0))
+    assert vx == -0.5 and not held                      # backing away from him: full speed

@@ -211,7 +211,7 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
     base = load_scenario(WORLDS / "living_room.yaml")
     tom = next(q for q in base.people if q.name == "Tom")
     tom = tom.model_copy(update={
-        "start": Start(x=4.3, y=1.2, yaw=90.0, pose="standing"),
+        "start": Start(x=4.3, y=1.2, yaw=90.0, pose="standing"), "gives_way": False,
         "events": (Event(at=1.0, walk_to=WalkTo(x=4.3, y=4.0)),)})
     scenario = base.model_copy(update={"people": (tom,)})   # the robot stands at (4.3, 2.6)
     worst = 0.0                                                # rad from the joint targets
@@ -223,6 +223,46 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
             worst = max(worst, float(np.abs(measured - targets).max()))
         assert sim.world.people_positions()["Tom"].y > 3.5   # Tom walked through the robot
     assert worst < 0.05
+
+
+@pytest.mark.parametrize(("goal", "arrives"), [((4.3, 4.0), True), ((4.3, 3.0), False)])
+def test_a_walking_person_goes_round_the_robot_or_stops_short_of_it(goal, arrives):
+    from app.sim.scenario import Event, Start, WalkTo
+    from app.sim.simulation import Simulation
+    from app.sim.world import STOP_SHORT
+
+    base = load_scenario(WORLDS / "living_room.yaml")
+    tom = next(q for q in base.people if q.name == "Tom").model_copy(update={
+        "start": Start(x=4.35, y=1.2, yaw=90.0, pose="standing"),
+        "events": (Event(at=1.0, walk_to=WalkTo(x=goal[0], y=goal[1])),)})
+    scenario = base.model_copy(update={"people": (tom,)})   # the robot stands at (4.3, 2.6)
+    nearest = math.inf
+    with Simulation(scenario) as sim:
+        rx, ry, _ = sim.robot.pose()
+        while sim.t < 12.0:
+            sim.step()
+            at = sim.world.people_positions()["Tom"]
+            nearest = min(nearest, math.hypot(at.x - rx, at.y - ry))
+    assert nearest >= STOP_SHORT - 1e-6            # his straight line ran through the robot
+    assert math.dist((at.x, at.y), goal) < 0.01 if arrives else at.y < ry - STOP_SHORT + 0.05
+
+
+def test_asked_to_clear_the_way_people_standing_near_the_robot_step_back():
+    from app.sim.scenario import Start
+    from app.sim.simulation import Simulation
+    from app.sim.world import MADE_WAY_M
+
+    base = load_scenario(WORLDS / "living_room.yaml")   # the robot stands at (4.3, 2.6)
+    tom, grace = (next(q for q in base.people if q.name == n) for n in ("Tom", "Grace"))
+    tom = tom.model_copy(update={"start": Start(x=4.3, y=1.8, yaw=90.0), "events": ()})
+    far = grace.model_copy(update={"start": Start(x=4.3, y=4.0, yaw=-90.0), "events": ()})
+    with Simulation(base.model_copy(update={"people": (tom, far)})) as sim:
+        sim.ask_way()
+        while sim.t < 3.0:
+            sim.step()
+        at = sim.world.people_positions()
+    assert math.dist((at["Tom"].x, at["Tom"].y), (4.3, 2.6)) == pytest.approx(MADE_WAY_M, abs=0.01)
+    assert (at["Grace"].x, at["Grace"].y) == pytest.approx((4.3, 4.0))   # too far to be asked
 
 
 def test_people_make_no_contacts_yet_rays_and_distance_queries_find_them(client):

@@ -206,23 +206,54 @@ def shortcut(grid: OccupancyGrid, points: Sequence[Point]) -> list[Point]:
 
 
 class Planner:
-    """Shortest paths on a static grid; ``plan`` may block more cells (people) on top."""
+    """Shortest paths on a static grid; ``plan`` may block more cells (people) on top. With
+    a ``body`` grid (the map's obstacles grown by the base's radius only), a robot standing
+    inside the static grid's inflation first slides out the shortest way its base fits."""
 
-    def __init__(self, grid: OccupancyGrid) -> None:
+    def __init__(self, grid: OccupancyGrid, body: OccupancyGrid | None = None) -> None:
         self.grid = grid
+        self.body = body   # the map's obstacles grown by the base's own radius only
 
     @cached_property
     def graph(self) -> sparse.csr_matrix:
         """The free cells of the static grid as a graph (built on first use)."""
         return grid_graph(~self.grid.blocked, self.grid.resolution)
 
+    @cached_property
+    def body_graph(self) -> sparse.csr_matrix:
+        """The cells of the ``body`` grid where the base fits, as a graph."""
+        return grid_graph(~self.body.blocked, self.body.resolution)
+
+    def _slide(self, grid: OccupancyGrid, start: Point, allowed: np.ndarray,
+               ) -> list[Point] | None:
+        """A way from ``start``, inside ``grid``'s inflation, to the nearest ``allowed``
+        free cell of ``grid`` through cells where the base fits (``body``): the points to
+        slide through, ending at that cell's centre; None without a ``body`` or a way."""
+        if self.body is None:
+            return None
+        columns = grid.blocked.shape[1]
+        first = self.body.nearest(self.body.cell(*start))
+        lengths, previous = csgraph.dijkstra(self.body_graph, indices=first[0] * columns
+                                             + first[1], return_predecessors=True)
+        lengths = np.where((allowed & ~grid.blocked).ravel(), lengths, np.inf)
+        at = int(np.argmin(lengths))
+        if not np.isfinite(lengths[at]):
+            return None
+        cells = []
+        while at >= 0:
+            cells.append(divmod(at, columns))
+            at = int(previous[at])
+        return shortcut(self.body, [start, *(grid.centre(c) for c in reversed(cells))])[1:]
+
     def plan(self, start: Point, goal: Point, grid: OccupancyGrid | None = None,
              ) -> list[Point] | None:
         """Waypoints from ``start`` to ``goal`` avoiding the blocked cells of ``grid`` (the
         static grid, or one made from it with :meth:`OccupancyGrid.with_obstacles`), or
         None when there is no way. The goal is snapped to the nearest free cell, the start
-        to the nearest free cell that connects to it; the first waypoint is ``start`` itself
-        unless it had to be snapped, the last is ``goal`` unless it had to be snapped."""
+        to the nearest free cell that connects to it (with a ``body`` grid, the nearest the
+        base can slide to, and the waypoints begin with the points of that slide, all in
+        blocked cells but the last); the first waypoint is ``start`` itself unless it had to
+        be snapped, the last is ``goal`` unless it had to be snapped."""
         grid = grid or self.grid
         goal_cell = grid.nearest(grid.cell(*goal))
         # the free cells that connect to the goal: a diagonal step needs both cells beside
@@ -230,6 +261,10 @@ class Planner:
         labels, _ = ndimage.label(~grid.blocked)
         reachable = labels == labels[goal_cell]
         start_cell = grid.nearest(grid.cell(*start), reachable)
+        slide = (self._slide(grid, start, reachable) or []) if start_cell != grid.cell(*start) \
+            else []
+        if slide:
+            start_cell = grid.cell(*slide[-1])
         if not reachable[start_cell]:
             return None
         graph = self.graph
@@ -249,7 +284,7 @@ class Planner:
             points[0] = start
         if grid.cell(*goal) == goal_cell:
             points[-1] = goal
-        return shortcut(grid, points)
+        return slide[:-1] + shortcut(grid, points)
 
     def nearest_goal(self, start: Point, goals: Sequence[Point],
                      extra: Sequence[float] | None = None) -> Point | None:
@@ -270,8 +305,10 @@ class Planner:
 
 @lru_cache(maxsize=8)
 def _static_planner(rooms: tuple[Bounds, ...], obstacles: tuple[Footprint, ...],
-                    resolution: float, radius: float) -> Planner:
-    return Planner(OccupancyGrid.build(rooms, obstacles, resolution, radius))
+                    resolution: float, radius: float, body: float | None = None) -> Planner:
+    return Planner(OccupancyGrid.build(rooms, obstacles, resolution, radius),
+                   None if body is None else OccupancyGrid.build(rooms, obstacles, resolution,
+                                                                 body))
 
 
 @lru_cache(maxsize=8)
@@ -283,17 +320,19 @@ def _explained(rooms: tuple[Bounds, ...], obstacles: tuple[Footprint, ...], reso
 
 class Navigator:
     """Plans in one world: the static grid (the floor map) and its graph are shared by every
-    navigator of the same household layout; the obstacles its sensors reported lately
+    navigator of the same household layout (``body``: the base's radius, for sliding out of
+    the inflation, :class:`Planner`); the obstacles its sensors reported lately
     (:meth:`observe`, :meth:`add_points`) are avoided too, with ``clearance`` m more room
     than the map's (they may be people: arms swing wider than the legs the scanners see).
     The simulator's people are never looked up: the robot avoids them only once it has
     sensed them."""
 
     def __init__(self, world: World, resolution: float, radius: float, memory_s: float = 0.0,
-                 static_margin: float = 0.1, clearance: float = 0.0) -> None:
+                 static_margin: float = 0.1, clearance: float = 0.0,
+                 body: float | None = None) -> None:
         self.clearance = clearance
         rooms, static = tuple(world.room_bounds().values()), tuple(world.obstacles())
-        self.planner = _static_planner(rooms, static, resolution, radius)
+        self.planner = _static_planner(rooms, static, resolution, radius, body)
         grid = self.planner.grid
         self.memory = ObstacleMemory(_explained(rooms, static, resolution, radius, static_margin),
                                      grid.origin, resolution, memory_s)

@@ -149,6 +149,7 @@ class PersonSpec(StrictModel):
     tastes: Tastes = Tastes()
     voice: Voice | None = None   # espeak-ng voice of their lines; None: one by their place
     repeat_if_asked: bool = True  # say a line again when the robot asks them to
+    gives_way: bool = True   # walking, they go round the robot rather than into it
 
 
 InitialDrives = create_model(  # one optional field per drive name, each in [0, 1]

@@ -80,6 +80,15 @@ class ObstacleMemory:
         inside = ((along <= reach) & (np.abs(side) <= half_width)) | (np.hypot(dx, dy) <= near)
         return bool((inside & (along >= 0)).any())
 
+    def nearest_ahead(self, position: tuple[float, float], heading: float) -> float:
+        """Distance (m) from ``position`` to the nearest active cell's centre on the side
+        of ``heading`` (rad): the half plane a move that way comes nearer to; inf if none."""
+        i, j = np.nonzero(self.active())
+        dx = self.origin[0] + (i + 0.5) * self.resolution - position[0]
+        dy = self.origin[1] + (j + 0.5) * self.resolution - position[1]
+        ahead = np.cos(heading) * dx + np.sin(heading) * dy >= 0
+        return float(np.hypot(dx, dy)[ahead].min()) if ahead.any() else np.inf
+
     def blocked(self, radius: float) -> np.ndarray:
         """The cells within ``radius`` of an active cell (centre to centre)."""
         active = self.active()

@@ -79,7 +79,8 @@ class Simulation:
         t_next = (self.steps + 1) * self.dt
         events: list[SocialEvent | Sound] = []
         x, y, _ = self.robot.pose()
-        said = self.world.advance(self.t, t_next) + self.reactions.react(t_next, self.world, (x, y))
+        said = (self.world.advance(self.t, t_next, (x, y))
+                + self.reactions.react(t_next, self.world, (x, y)))
         for e in said:
             if isinstance(e, SayEvent):
                 self._speak(e, "say")
@@ -111,6 +112,12 @@ class Simulation:
         to come closer): its speaker repeats it, if they do that (``repeat_if_asked``)."""
         if (again := self.sound.asked_again(line, self.t, closer)) is not None:
             self._speak(again, "repeat")
+
+    def ask_way(self) -> None:
+        """The robot asked for its way to be cleared: the people near it step away
+        (:meth:`World.make_way`)."""
+        x, y, _ = self.robot.pose()
+        self.world.make_way(self.t, (x, y))
 
     def stop_helper(self) -> None:
         """Stop the camera's helper process, if any (later frames are drawn in this one)."""

@@ -24,6 +24,7 @@ import pybullet_data
 from app.sim.layout import Furniture, Placement, SceneObject, rgb
 from app.sim.people import Appearance, Part, Person, build_body, joint_xml, link_xml, load_urdf_text
 from app.sim.scenario import Event, Scenario, load_scenario
+from app.sim.walks import Walk, give_way, short_of
 
 Rgb = tuple[float, float, float]
 WALL_THICKNESS = 0.1
@@ -31,8 +32,11 @@ PARK_X, PARK_Y = -1000.0, -1000.0   # where the bodies of people who left wait (
 DOOR_HEIGHT = 2.05
 GROUND = (0.45, 0.47, 0.45, 1.0)  # outside the rooms
 CEILING: Rgb = (0.96, 0.96, 0.94)
-STOP_SHORT = 0.7  # a person walking up to another stops this far from them
-APPROACH_SPEED = 0.7  # m/s, a person asked by the robot to come closer
+STOP_SHORT = 0.7  # a person walking up to another stops this far from them, and a walking
+                  # person who gives way keeps this far from the robot's centre
+APPROACH_SPEED = 0.7  # m/s, a person asked by the robot to come closer (or to make way)
+MAKE_WAY_M = 1.0  # a standing person this near the robot, asked to make way, steps back to
+MADE_WAY_M = 1.5  # this far from it
 
 
 # --- small value types ----------------------------------------------------------------
@@ -268,38 +272,6 @@ def _subtract(span: Span, cuts: list[Span]) -> list[Span]:
 # --- the world ----------------------------------------------------------------------------
 
 
-@dataclass
-class _Walk:
-    t0: float
-    start: tuple[float, float]
-    yaw0: float
-    goal: tuple[float, float]
-    speed: float
-    yaw_end: float | None
-
-    def at(self, t: float) -> tuple[float, float, float, float, bool]:
-        """x, y, heading, distance walked and whether arrived, at time ``t``."""
-        dx, dy = self.goal[0] - self.start[0], self.goal[1] - self.start[1]
-        length = math.hypot(dx, dy)
-        walked = min(max(t - self.t0, 0.0) * self.speed, length)
-        f = walked / length if length > 1e-9 else 1.0
-        done = walked >= length
-        heading = math.atan2(dy, dx) if length > 1e-9 else self.yaw0
-        if done and self.yaw_end is not None:
-            heading = self.yaw_end
-        return self.start[0] + f * dx, self.start[1] + f * dy, heading, walked, done
-
-
-def _short_of(here: Pose2D, target: tuple[float, float], stop_m: float
-              ) -> tuple[tuple[float, float], float]:
-    """Where a walk from ``here`` towards ``target`` stops, ``stop_m`` short of it (or
-    ``here`` when already that close), and the heading that faces ``target``."""
-    dx, dy = target[0] - here.x, target[1] - here.y
-    dist = math.hypot(dx, dy)
-    f = max(dist - stop_m, 0.0) / dist if dist > 1e-9 else 0.0
-    return (here.x + f * dx, here.y + f * dy), math.atan2(dy, dx)
-
-
 def _pose(place: Placement) -> Pose2D:
     return Pose2D(place.x, place.y, math.radians(place.yaw))
 
@@ -317,7 +289,7 @@ class World:
         self.people: dict[str, Person] = {}
         self.expressions: dict[str, str] = {}   # what each person's face shows
         self._specs = {person.name: person for person in scenario.people}
-        self._walks: dict[str, _Walk] = {}
+        self._walks: dict[str, Walk] = {}
         self._parked: dict[str, Person] = {}   # bodies of people who left, kept for their return
         self._footprints: list[Footprint] = []
         self._tops: dict[str, float] = {}
@@ -536,13 +508,28 @@ class World:
         dist = math.dist((here.x, here.y), target)
         if dist <= stop_m:
             return 0.0
-        self._start_walk(name, t, here, *_short_of(here, target, stop_m), speed)
+        self._start_walk(name, t, here, *short_of((here.x, here.y), target, stop_m), speed)
         return (dist - stop_m) / speed
+
+    def make_way(self, t: float, robot: tuple[float, float]) -> None:
+        """The robot at ``robot`` asked for its way to be cleared at ``t``: everyone standing
+        within ``MAKE_WAY_M`` of it who gives way walks straight back from it to
+        ``MADE_WAY_M`` (unless a wall or furniture is there), and their walk so far ends."""
+        for name, person in self.people.items():
+            here = self._where(name, t)
+            away = math.hypot(here.x - robot[0], here.y - robot[1])
+            if (person.pose == "sitting" or not self._specs[name].gives_way
+                    or away > MAKE_WAY_M or away < 1e-9):
+                continue
+            f = MADE_WAY_M / away
+            goal = (robot[0] + f * (here.x - robot[0]), robot[1] + f * (here.y - robot[1]))
+            if not any(o.contains(*goal) for o in self._footprints if o.kind != "dock"):
+                self._start_walk(name, t, here, goal, here.yaw, APPROACH_SPEED)
 
     def _start_walk(self, name: str, t: float, here: Pose2D, goal: tuple[float, float],
                     yaw_end: float | None, speed: float) -> None:
         """``name`` walks from ``here`` to ``goal`` from time ``t`` (standing up first)."""
-        self._walks[name] = _Walk(t, (here.x, here.y), here.yaw, goal, speed, yaw_end)
+        self._walks[name] = Walk(t, (here.x, here.y), here.yaw, goal, speed, yaw_end)
         if self.people[name].pose == "sitting":
             self.people[name].set_pose("standing")
 
@@ -572,7 +559,7 @@ class World:
             yaw_end = None if e.walk_to.yaw is None else math.radians(e.walk_to.yaw)
             if e.walk_to.person is not None:
                 other = self._where(e.walk_to.person, t)
-                goal, yaw_end = _short_of(here, (other.x, other.y), STOP_SHORT)
+                goal, yaw_end = short_of((here.x, here.y), (other.x, other.y), STOP_SHORT)
             self._start_walk(name, t, here, goal, yaw_end, e.walk_to.speed)  # type: ignore[arg-type]
         elif e.pose is not None:
             here = self._where(name, t)
@@ -606,11 +593,15 @@ class World:
                 self._spawn(spec.name, spec.start.x, spec.start.y, math.radians(spec.start.yaw),
                             spec.start.pose)
 
-    def advance(self, t_prev: float, t_now: float) -> list[SocialEvent]:
+    def advance(self, t_prev: float, t_now: float,
+                robot: tuple[float, float] | None = None) -> list[SocialEvent]:
         """Play the timeline over ``[t_prev, t_now)`` and move walkers to where they are at
         ``t_now``; return the social events due, in time order. Call it with consecutive
         intervals (0 to dt, dt to 2 dt, ...). With a ``loop_period`` the timeline starts
-        again every period, everyone back at their start."""
+        again every period, everyone back at their start. Walkers who give way
+        (``gives_way``) see the robot standing at ``robot``: a step that would bring them
+        within ``STOP_SHORT`` of it goes round it instead, and their walk goes on from
+        there."""
         period = self.scenario.loop_period
         if period is None:
             social = self._play(t_prev, t_now, 0.0)
@@ -626,13 +617,35 @@ class World:
         for name, walk in list(self._walks.items()):
             x, y, yaw, walked, done = walk.at(t_now)
             person = self.people[name]
+            if robot is not None and self._specs[name].gives_way and (
+                    here := self._round_robot(name, walk, (x, y), walked, robot, t_now)):
+                x, y, yaw, done = here.x, here.y, here.yaw, name not in self._walks
             person.place(x, y, yaw)
             if done:
-                del self._walks[name]
+                self._walks.pop(name, None)
                 person.set_pose(person.pose)  # back from the walking gait
             else:
                 person.set_gait(walked / (0.45 * person.appearance.height) * math.pi)
         return social
+
+    def _round_robot(self, name: str, walk: Walk, there: tuple[float, float], walked: float,
+                     robot: tuple[float, float], t: float) -> Pose2D | None:
+        """Where ``name``, about to step to ``there`` on ``walk``, steps instead to keep clear
+        of the robot at ``robot`` (:func:`app.sim.walks.give_way`), their walk going on from
+        there at ``t``. Where their goal is that near the robot, or a wall or furniture is in
+        the way round, the walk ends where they stand. None when the step keeps clear."""
+        person = self.people[name]
+        here = (person.x, person.y)
+        side = give_way(here, there, walk.goal, robot, STOP_SHORT)
+        if side is None:
+            return None
+        if side == here or any(f.contains(*side) for f in self._footprints if f.kind != "dock"):
+            del self._walks[name]
+            return Pose2D(*here, person.yaw)
+        pose = Pose2D(*side, math.atan2(side[1] - here[1], side[0] - here[0]))
+        self._start_walk(name, t, pose, walk.goal, walk.yaw_end, walk.speed)
+        self._walks[name].walked0 = walked
+        return pose
 
     # -- faults (companion run --faults) -----------------------------------------------------
 

@@ -39,11 +39,12 @@ class FollowPath(StopBase):
     """Plan a path to ``goal`` and follow it; SUCCESS within the waypoint tolerance of the
     goal. The laser scanners (every tick) and the depth camera (its frames) report obstacles
     off the floor map; one of them on the path ahead means planning again (at most every
-    ``replan_sensed_s``), and one close ahead stops the base's translation (a security
-    distance); being blocked or held for ``replan_blocked_s`` (or having no path) means
-    planning again too. It never fails by itself (see :class:`Deadline`). A robot standing
-    inside an inflated obstacle first slides, without turning, to the free cell where the
-    path begins."""
+    ``replan_sensed_s``), and one near on the side the base moves to slows or stops its
+    translation (:meth:`ObstacleSensing.guard`); being blocked or held for
+    ``replan_blocked_s`` (or having no path) means planning again too. It never fails by
+    itself (see :class:`Deadline`). A robot standing inside an inflated obstacle first
+    slides through cells where its base fits to the free cell where the path begins,
+    turning only so that a scanner looks the way it slides."""
 
     def __init__(self, name: str, ctx: Context, goal: Point) -> None:
         super().__init__(name, ctx, reads=("depth", "frame_t"))
@@ -55,15 +56,12 @@ class FollowPath(StopBase):
         self._planned_at = -math.inf
         self._held = False
         self._has_path = False
-        self._escape: Point | None = None
+        self._escape: list[Point] = []   # points to slide through, out of an inflation
 
     def setup(self, **kwargs: Any) -> None:
         """The planner on the floor map's occupancy grid, its sensors, and the follower."""
-        cfg = self.ctx.config.charge
-        self.navigator = Navigator(self.ctx.world, cfg.grid_resolution, cfg.robot_radius,
-                                   cfg.obstacle_memory_s, cfg.static_margin_m,
-                                   cfg.sensed_clearance_m)
-        self.sensing = ObstacleSensing(self.ctx, self.navigator)
+        self.sensing = ObstacleSensing.for_charge(self.ctx)
+        self.navigator = self.sensing.navigator
         self.follower = self.ctx.path_follower()
 
     def _plan(self) -> None:
@@ -75,8 +73,10 @@ class FollowPath(StopBase):
         if path is None:
             self.emit("no_path", start=[x, y], goal=list(self.goal))
             return
-        self.follower.start(path)
-        self._escape = path[0] if path[0] != (x, y) else None
+        grid = self.navigator.grid()
+        first = next((k for k, q in enumerate(path) if grid.is_free(*q)), len(path) - 1)
+        self._escape = path[:first + 1] if path[0] != (x, y) else []
+        self.follower.start(path[first:])
         self.emit("path", waypoints=[[round(a, 3), round(b, 3)] for a, b in path],
                   length=round(sum(map(math.dist, path, path[1:])), 3))
 
@@ -89,12 +89,12 @@ class FollowPath(StopBase):
         self.sensing.update(self.now, self.bb.depth, self.bb.frame_t)
 
     def _path_ahead_clear(self) -> bool:
-        """Whether the rest of the path, from where the robot is (through the free cell it
-        slides to first, if it does), keeps clear of the obstacles sensed since it was
+        """Whether the rest of the path, from where the robot is (through the points it
+        slides through first, if it does), keeps clear of the obstacles sensed since it was
         planned (the cells around the robot itself excepted)."""
         grid = self.navigator.sensed_grid()
-        escape = [self._escape] if self._escape is not None else []
-        rest = [self.ctx.robot.pose()[:2], *escape, *self.follower.path[self.follower.index:]]
+        rest = [self.ctx.robot.pose()[:2], *self._escape,
+                *self.follower.path[self.follower.index:]]
         return grid.clear_ahead(rest[0], rest[1]) and all(
             grid.visible(a, b) for a, b in pairwise(rest[1:]))
 
@@ -121,41 +121,51 @@ class FollowPath(StopBase):
         pose = self.ctx.robot.pose()
         if not self._has_path:
             return 0.0, 0.0, 0.0
-        if self._escape is not None and math.dist(pose[:2], self._escape) > ESCAPED_M:
-            return self._guard(pose, self.follower.approach(pose, Pose2D(*self._escape, pose[2])))
-        self._escape = None
+        while self._escape and math.dist(pose[:2], self._escape[0]) <= ESCAPED_M:
+            self._escape.pop(0)
+        if self._escape:
+            return self._guard(pose, self.follower.approach(pose, self._slide_pose(pose)))
         return self._guard(pose, self.follower.command(pose))
+
+    def _slide_pose(self, pose: tuple[float, float, float]) -> Pose2D:
+        """The next point of the slide, with the heading nearest the robot's own that has a
+        laser scanner looking the way it slides: the base turns while it slides so as not
+        to slide into its blind sectors (behind it, between the fans), and slides slower
+        while it is still turning (:meth:`PathFollower.approach`)."""
+        tx, ty = self._escape[0]
+        way = math.atan2(ty - pose[1], tx - pose[0])
+        facings = [math.radians(f) for f in self.ctx.robot.cfg.lasers.scanners.values()]
+        yaw = min((wrap_angle(way - f) for f in facings),
+                  key=lambda h: abs(wrap_angle(h - pose[2])))
+        return Pose2D(tx, ty, yaw)
 
     def _guard(self, pose: tuple[float, float, float], command: tuple[float, float, float],
                ) -> tuple[float, float, float]:
-        """``command`` without its translation while a sensed obstacle lies on the side the
-        base would move to within ``security_distance_m`` of its shell, or straight in its
-        way (``robot_radius`` to either side) within that plus the way covered in
-        ``security_time_s`` at the commanded speed; the robot still turns. Being held
-        this way counts as being blocked."""
-        vx, vy, wz = command
-        cfg = self.ctx.config.charge
-        near = self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
-        self._held = (vx, vy) != (0.0, 0.0) and self.navigator.memory.ahead(
-            pose[:2], pose[2] + math.atan2(vy, vx),
-            near + math.hypot(vx, vy) * cfg.security_time_s, cfg.robot_radius, near)
-        return (0.0, 0.0, wz) if self._held else command
+        """``command`` as the sensed obstacles allow (:meth:`ObstacleSensing.guard`); being
+        held counts as being blocked."""
+        command, self._held = self.sensing.guard(pose, command)
+        return command
 
 
 class DockIn(StopBase):
     """Turn on the spot to the dock's heading, then drive straight in; SUCCESS (and a
     ``docked`` event) within ``dock_position_tolerance`` and ``dock_yaw_tolerance_deg``.
+    The laser scanners watch the way in as on the path (:meth:`ObstacleSensing.guard`).
     Held back by something on the dock for ``replan_blocked_s``, it says so and asks for
-    help once (a ``dock_blocked`` event), and keeps trying until the skill's deadline."""
+    the way to be cleared, once (a ``dock_blocked`` event; people standing near it step
+    back, :meth:`app.sim.world.World.make_way`), and keeps trying until the deadline."""
 
     def __init__(self, name: str, ctx: Context, dock: Pose2D) -> None:
         super().__init__(name, ctx)
         self.dock = dock
-        self.follower: PathFollower | None = None   # set in setup()
+        self.follower: PathFollower | None = None   # set in setup(), with the sensing
+        self.sensing: ObstacleSensing | None = None
         self._aligned = False
+        self._held = False
 
     def setup(self, **kwargs: Any) -> None:
         self.follower = self.ctx.path_follower()
+        self.sensing = ObstacleSensing.for_charge(self.ctx)
 
     def initialise(self) -> None:
         self.follower.reset()
@@ -165,7 +175,7 @@ class DockIn(StopBase):
 
     def _watch_blocked(self) -> None:
         cfg = self.ctx.config.charge
-        if not self.ctx.robot.blocked:
+        if not (self.ctx.robot.blocked or self._held):
             self._blocked_since = None
             return
         self._blocked_since = self._blocked_since or self.now
@@ -173,6 +183,7 @@ class DockIn(StopBase):
             self._reported = True
             self.emit("dock_blocked", pose=[round(v, 3) for v in self.ctx.robot.pose()])
             self.ctx.speaker.say(cfg.dock_blocked, behaviour=self.name)
+            self.ctx.ask_way()
 
     def update(self) -> Status:
         cfg, robot = self.ctx.config.charge, self.ctx.robot
@@ -186,7 +197,10 @@ class DockIn(StopBase):
             return Status.SUCCESS
         self._aligned = self._aligned or yaw_error <= yaw_tolerance
         vx, vy, wz = self.follower.approach((x, y, yaw), self.dock)
-        robot.set_base_velocity(*((vx, vy, wz) if self._aligned else (0.0, 0.0, wz)))
+        self.sensing.update(self.now, None, -math.inf)
+        command, self._held = self.sensing.guard((x, y, yaw), (vx, vy, wz) if self._aligned
+                                                 else (0.0, 0.0, wz))
+        robot.set_base_velocity(*command)
         return Status.RUNNING
 
 
