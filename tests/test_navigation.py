@@ -10,6 +10,7 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
+from app.core.config_files import ConfigError
 from app.mind.personality import ACTIONS
 from app.sim.navigation import (
     Navigator,
@@ -194,6 +195,17 @@ def test_gives_up_after_the_timeout_and_stops():
         assert sim.robot.base_velocity == (0.0, 0.0, 0.0) and not sim.robot.charging
     finally:
         sim.close()
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("charge:\n  slow_distance_m: 0.2\n", "need slow_distance_m > security_distance_m"),
+    ("charge:\n  body_radius: 0.4\n", "need body_radius <= robot_radius"),
+])
+def test_charge_distances_that_contradict_each_other_are_refused(tmp_path, text, expected):
+    path = tmp_path / "behaviour.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=expected):
+        load_behaviour_config(path)
 
 
 def test_predock_pose_lies_behind_the_dock():

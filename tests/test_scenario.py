@@ -107,6 +107,7 @@ BROKEN = [
      "people[0].events[0]: Value error, an event needs exactly one of"),
     ("people.0.events.0", {"at": 5, "emotion": "angry"},
      "people[0].events[0].emotion: Input should be 'happy', 'sad' or 'neutral'"),
+    ("people.0.gives_way", "maybe", "people[0].gives_way: Input should be a valid boolean"),
     ("people.0.events.0", {"at": 5, "enter": {"door": "door"}},
      "people[0].events[0].enter: Ann is already in the world at 5 s"),
     ("people.1.events.0", {"at": 20, "enter": {"door": "garage"}},
