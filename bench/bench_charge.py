@@ -42,6 +42,7 @@ from py_trees.common import Status
 from app.sim.navigation import Navigator, OccupancyGrid, Point
 from app.sim.robot import wrap_angle
 from app.sim.scenario import Event, PersonSpec, Scenario, Start, WalkTo, load_scenario
+from app.sim.scenario_space import to_segment
 from app.sim.simulation import Simulation
 from app.sim.world import World
 from behaviours.blackboard import seed
@@ -61,20 +62,12 @@ DOCK_CLEAR_M = 0.6   # m a walk keeps from the dock's last straight (robot radiu
 
 def apart(a: tuple[Point, Point], b: tuple[Point, Point]) -> float:
     """The least distance (m) between the segments ``a`` and ``b`` (0 where they cross)."""
-    def cross(o: Point, p1: Point, p2: Point) -> float:
+    def side(o: Point, p1: Point, p2: Point) -> float:
         return (p1[0] - o[0]) * (p2[1] - o[1]) - (p1[1] - o[1]) * (p2[0] - o[0])
 
-    def to_segment(q: Point, s: tuple[Point, Point]) -> float:
-        (x0, y0), (x1, y1) = s
-        length = (x1 - x0) ** 2 + (y1 - y0) ** 2
-        f = 0.0 if length == 0 else min(max(((q[0] - x0) * (x1 - x0) + (q[1] - y0) * (y1 - y0))
-                                            / length, 0.0), 1.0)
-        return math.dist(q, (x0 + f * (x1 - x0), y0 + f * (y1 - y0)))
-
-    if (cross(*a, b[0]) * cross(*a, b[1]) < 0) and (cross(*b, a[0]) * cross(*b, a[1]) < 0):
+    if side(*a, b[0]) * side(*a, b[1]) < 0 and side(*b, a[0]) * side(*b, a[1]) < 0:
         return 0.0
-    return min(to_segment(a[0], b), to_segment(a[1], b), to_segment(b[0], a),
-               to_segment(b[1], a))
+    return min(min(to_segment(*q, b) for q in a), min(to_segment(*q, a) for q in b))
 
 
 def crossing(walkable: OccupancyGrid, path: list[Point], rng: np.random.Generator,

@@ -58,7 +58,8 @@ def _sides(room: Room) -> dict[str, tuple[str, float]]:
             "west": ("v", room.x[0]), "east": ("v", room.x[1])}
 
 
-def _to_segment(x: float, y: float, seg: Segment) -> float:
+def to_segment(x: float, y: float, seg: Segment) -> float:
+    """Distance from ``(x, y)`` to the segment ``seg``."""
     (ax, ay), (bx, by) = seg
     dx, dy = bx - ax, by - ay
     t = max(0.0, min(1.0, ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy or 1.0)))
@@ -80,7 +81,7 @@ def overlaps(rooms: Sequence[Room], furniture: Sequence[Furniture], path: str, a
     ``path: (x, y) is inside ...``; ``seated``: only the centre, and seats are allowed."""
     where = f"{path}: ({at.x:g}, {at.y:g})"
     out = [f"{where} is inside {name}" for name, seg in walls(rooms)
-           if _to_segment(at.x, at.y, seg) < radius + WALL_THICKNESS / 2]
+           if to_segment(at.x, at.y, seg) < radius + WALL_THICKNESS / 2]
     for f in furniture:
         if seated and f.type in SEATS:
             continue

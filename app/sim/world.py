@@ -523,8 +523,12 @@ class World:
                 continue
             f = MADE_WAY_M / away
             goal = (robot[0] + f * (here.x - robot[0]), robot[1] + f * (here.y - robot[1]))
-            if not any(o.contains(*goal) for o in self._footprints if o.kind != "dock"):
+            if self._room_for_people(goal):
                 self._start_walk(name, t, here, goal, here.yaw, APPROACH_SPEED)
+
+    def _room_for_people(self, at: tuple[float, float]) -> bool:
+        """Whether a person can stand at ``at``: not inside a wall, furniture or an object."""
+        return not any(f.contains(*at) for f in self._footprints if f.kind != "dock")
 
     def _start_walk(self, name: str, t: float, here: Pose2D, goal: tuple[float, float],
                     yaw_end: float | None, speed: float) -> None:
@@ -639,7 +643,7 @@ class World:
         side = give_way(here, there, walk.goal, robot, STOP_SHORT)
         if side is None:
             return None
-        if side == here or any(f.contains(*side) for f in self._footprints if f.kind != "dock"):
+        if side == here or not self._room_for_people(side):
             del self._walks[name]
             return Pose2D(*here, person.yaw)
         pose = Pose2D(*side, math.atan2(side[1] - here[1], side[0] - here[0]))
