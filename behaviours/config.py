@@ -16,6 +16,7 @@ from pydantic import (
 
 from app.core.config_files import StrictModel, load_model
 from app.core.paths import REPO_ROOT
+from app.sim.obstacle_tracks import TracksConfig
 
 
 class PidGains(StrictModel):
@@ -80,6 +81,7 @@ class ChargeConfig(StrictModel):
     slow_distance_m: PositiveFloat
     security_time_s: NonNegativeFloat
     depth_points: DepthPointsConfig
+    tracks: TracksConfig
     dock_position_tolerance: PositiveFloat
     dock_yaw_tolerance_deg: PositiveFloat
     timeout_s: PositiveFloat

@@ -30,7 +30,7 @@ class ObstacleSensing:
         cfg = ctx.config.charge
         return cls(ctx, Navigator(ctx.world, cfg.grid_resolution, cfg.robot_radius,
                                   cfg.obstacle_memory_s, cfg.static_margin_m,
-                                  cfg.sensed_clearance_m, cfg.body_radius))
+                                  cfg.sensed_clearance_m, cfg.body_radius, cfg.tracks))
 
     def guard(self, pose: tuple[float, float, float], command: Velocity,
               ) -> tuple[Velocity, bool]:

@@ -11,6 +11,7 @@ import pytest
 
 from app.sim.lasers import Scan
 from app.sim.navigation import Navigator
+from app.sim.obstacle_tracks import clusters
 from app.sim.people import Part, build_body
 from app.sim.robot import Robot
 from app.sim.scenario import load_scenario
@@ -144,3 +145,52 @@ def test_the_base_slows_near_a_person_ahead_and_stops_at_the_security_distance(
         assert vx == pytest.approx(0.5 * share) and held == (share == 0.0)
     (vx, _, _), held = sensing.guard(ROBOT, (-0.5, 0.0, 0.0))
     assert vx == -0.5 and not held                      # backing away from him: full speed
+
+
+def test_hits_close_together_are_one_object_and_people_apart_are_two():
+    legs = np.array([[1.0, 1.0], [1.0, 1.05], [1.0, 1.25], [1.0, 1.3]])   # two legs, 0.2 apart
+    other = np.array([[2.0, 1.0], [2.0, 1.05]])
+    centres = clusters(np.vstack([legs, other]), 0.3)
+    assert sorted(map(tuple, centres.round(3))) == [(1.0, 1.15), (2.0, 1.025)]
+
+
+def rays(starts: list[tuple[float, float]], ends: list[tuple[float, float]],
+         hit: bool) -> Scan:
+    """A scan of rays from ``starts`` to ``ends``, all ending on a surface or none."""
+    return Scan(np.array(starts, dtype=float), np.array(ends, dtype=float),
+                np.full(len(starts), hit))
+
+
+def test_a_track_out_of_sight_is_expected_where_its_walk_takes_it_until_seen_free():
+    memory = ObstacleMemory(np.zeros((60, 60), dtype=bool), (0.0, 0.0), 0.05, memory_s=2.0,
+                            tracks=CFG.tracks)
+    for k in range(5):                                  # walking along x at 1 m/s, seen
+        at = (1.02 + 0.1 * k, 1.02)
+        memory.observe(rays([(at[0], 0.2)], [at], hit=True), 0.1 * k)
+    assert not memory.expected.any()                    # seen: where its hits are
+    memory.observe(rays([(0.2, 0.2)], [(0.2, 0.5)], hit=False), 0.6)   # gone out of sight
+    i, j = np.nonzero(memory.expected)
+    assert (i.mean() + 0.5) * 0.05 == pytest.approx(1.6, abs=0.05)    # at x = 1.6, y = 1.0
+    assert (j.mean() + 0.5) * 0.05 == pytest.approx(1.0, abs=0.05)
+    assert memory.active()[i, j].all()
+    fan = [(1.2 + 0.05 * k, 0.0) for k in range(17)]    # rays passing x = 1.2-2.0, to y = 2.5
+    memory.observe(rays(fan, [(x, 2.5) for x, _ in fan], hit=False), 0.7)
+    assert not memory.expected.any() and memory.tracks.tracks == []   # seen free: forgotten
+
+
+def test_a_person_walking_from_the_front_fan_into_the_gap_beside_it_is_still_avoided(household):
+    sim, forgetful = household
+    nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
+                    CFG.static_margin_m, CFG.sensed_clearance_m, tracks=CFG.tracks)
+    start, gap = np.array([4.8, 2.0]), np.array([4.45, 2.45])   # ahead; then 45 deg, 0.64 m
+    for k in range(6):                                  # about 1 m/s, scanned at 10 Hz
+        place(sim, tuple(start + (gap - start) * k / 5))
+        for navigator in (nav, forgetful):
+            navigator.observe(sim.robot.lasers.scan(), 0.1 * k)
+    ctx = make_context(sim, config=load_behaviour_config())
+    scan = sim.robot.lasers.scan()
+    assert not scan.hit[np.hypot(*(scan.ends - gap).T) < 0.4].any()   # no ray finds him now
+    ahead = (0.5, 0.0, 0.0)
+    assert ObstacleSensing(ctx, forgetful).guard(ROBOT, ahead)[0] == ahead   # forgotten
+    (vx, _, _), _ = ObstacleSensing(ctx, nav).guard(ROBOT, ahead)
+    assert vx < 0.25                                    # tracked: the base slows beside him

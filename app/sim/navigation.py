@@ -25,6 +25,7 @@ from scipy.sparse import csgraph
 from simple_pid import PID
 
 from app.sim.lasers import Scan
+from app.sim.obstacle_tracks import TracksConfig
 from app.sim.robot import wrap_angle
 from app.sim.sensed_obstacles import ObstacleMemory
 from app.sim.world import Footprint, Pose2D, World
@@ -329,13 +330,13 @@ class Navigator:
 
     def __init__(self, world: World, resolution: float, radius: float, memory_s: float = 0.0,
                  static_margin: float = 0.1, clearance: float = 0.0,
-                 body: float | None = None) -> None:
+                 body: float | None = None, tracks: TracksConfig | None = None) -> None:
         self.clearance = clearance
         rooms, static = tuple(world.room_bounds().values()), tuple(world.obstacles())
         self.planner = _static_planner(rooms, static, resolution, radius, body)
         grid = self.planner.grid
         self.memory = ObstacleMemory(_explained(rooms, static, resolution, radius, static_margin),
-                                     grid.origin, resolution, memory_s)
+                                     grid.origin, resolution, memory_s, tracks)
 
     def observe(self, scan: Scan, now: float) -> None:
         """A laser scan at ``now``: its rays clear the cells they passed, its hits mark theirs."""

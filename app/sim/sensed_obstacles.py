@@ -6,7 +6,9 @@ the sensors: points where a laser ray or a depth-camera pixel met a surface that
 does not explain (farther than ``static_margin`` from every mapped footprint) mark their
 grid cell as seen *now*. A cell stays an obstacle for ``memory_s`` after it was last seen,
 or until a laser ray passes through it to something farther (the cell was seen free). The
-planner inflates these cells by the robot's radius like the map's obstacles
+planner inflates these cells by the robot's radius like the map's obstacles. Things the
+scanners saw move are also tracked (:mod:`app.sim.obstacle_tracks`): while one is out of
+every ray's reach, the cells round where it is expected count as occupied too
 (docs/navigation.md).
 """
 
@@ -16,26 +18,36 @@ import numpy as np
 from scipy import ndimage
 
 from app.sim.lasers import Scan
+from app.sim.obstacle_tracks import ObstacleTracks, TracksConfig
 
 
 class ObstacleMemory:
-    """Grid cells where sensors met something the map does not explain, with when."""
+    """Grid cells where sensors met something the map does not explain, with when, and
+    (given ``tracks``) the cells round tracked things the scanners cannot see now."""
 
     def __init__(self, explained: np.ndarray, origin: tuple[float, float], resolution: float,
-                 memory_s: float) -> None:
+                 memory_s: float, tracks: TracksConfig | None = None) -> None:
         self.explained = explained
         self.origin = np.asarray(origin, dtype=float)
         self.resolution = resolution
         self.memory_s = memory_s
         self.seen = np.full(explained.shape, -np.inf)   # when each cell was last seen occupied
         self.now = -np.inf
+        self.tracks = ObstacleTracks(tracks) if tracks is not None else None
+        self.expected = np.zeros(explained.shape, dtype=bool)   # round unseen tracks, now
+        self.free = np.zeros(explained.shape, dtype=bool)       # the last scan's rays passed
+
+    def _inside(self, points: np.ndarray) -> np.ndarray:
+        """Which ``points`` ((N, 2) m) lie inside the grid."""
+        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
+                      / self.resolution)
+        return ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
 
     def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Indices of the cells holding ``points`` ((N, 2) m), those inside the grid only."""
-        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
-                      / self.resolution).astype(int)
-        ok = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
-        return ij[ok, 0], ij[ok, 1]
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        ij = np.floor((points[self._inside(points)] - self.origin) / self.resolution)
+        return ij[:, 0].astype(int), ij[:, 1].astype(int)
 
     def add(self, points: np.ndarray, now: float) -> None:
         """Points ((N, 2) m) where a sensor met a surface at time ``now``."""
@@ -49,21 +61,55 @@ class ObstacleMemory:
         cell short of where it ended."""
         self.now = max(self.now, now)
         step = self.resolution / 2
+        self.free = np.zeros(self.seen.shape, dtype=bool)
         for origin, end in zip(scan.origins, scan.ends, strict=True):
             length = float(np.hypot(*(end - origin))) - self.resolution
             if length <= 0:
                 continue
             t = np.arange(0.0, length, step)[:, None] / (length + self.resolution)
-            self.seen[self._cells(origin + t * (end - origin))] = -np.inf
+            self.free[self._cells(origin + t * (end - origin))] = True
+        self.seen[self.free] = -np.inf
 
     def observe(self, scan: Scan, now: float) -> None:
-        """A laser scan: free space along its rays first, then its hits."""
+        """A laser scan: free space along its rays first, then its hits, then where the
+        tracked things it did not find are expected (where its rays did not pass)."""
         self.clear(scan, now)
         self.add(scan.points, now)
+        if self.tracks is not None:
+            self._expect(scan, now)
+
+    def _expect(self, scan: Scan, now: float) -> None:
+        """Follow the tracks with the scan's off-map hits; the cells round each track no hit
+        continued, where the scan did not see (its rays' cells and their neighbours), are
+        expected occupied; a track with none left is forgotten."""
+        i, j = self._cells(scan.points)
+        off_map = scan.points[self._inside(scan.points)][~self.explained[i, j]]
+        unseen = ~ndimage.binary_dilation(self.free) & ~self.explained
+        self.expected = np.zeros(self.seen.shape, dtype=bool)
+        for track in self.tracks.update(off_map, now):
+            disc = self._disc(track.at(now), self.tracks.cfg.radius_m) & unseen
+            if disc.any():
+                self.expected |= disc
+            else:
+                self.tracks.forget(track)
+
+    def _disc(self, centre: np.ndarray, radius: float) -> np.ndarray:
+        """The cells whose centres lie within ``radius`` of ``centre``."""
+        mask = np.zeros(self.seen.shape, dtype=bool)
+        shape = np.array(mask.shape)
+        lo = np.clip(np.floor((centre - radius - self.origin) / self.resolution), 0, shape)
+        hi = np.clip(np.ceil((centre + radius - self.origin) / self.resolution), 0, shape)
+        (i0, j0), (i1, j1) = lo.astype(int), hi.astype(int)
+        i, j = np.ogrid[i0:i1, j0:j1]
+        x = self.origin[0] + (i + 0.5) * self.resolution - centre[0]
+        y = self.origin[1] + (j + 0.5) * self.resolution - centre[1]
+        mask[i0:i1, j0:j1] = x ** 2 + y ** 2 <= radius ** 2
+        return mask
 
     def active(self) -> np.ndarray:
-        """The cells seen occupied within the last ``memory_s`` seconds."""
-        return np.isfinite(self.seen) & (self.seen >= self.now - self.memory_s)
+        """The cells seen occupied within the last ``memory_s`` seconds, and those round
+        where the tracked things out of sight are expected now."""
+        return (np.isfinite(self.seen) & (self.seen >= self.now - self.memory_s)) | self.expected
 
     def ahead(self, position: tuple[float, float], heading: float, reach: float,
               half_width: float, near: float) -> bool:
