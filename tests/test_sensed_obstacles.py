@@ -194,3 +194,20 @@ def test_a_person_walking_from_the_front_fan_into_the_gap_beside_it_is_still_avo
     assert ObstacleSensing(ctx, forgetful).guard(ROBOT, ahead)[0] == ahead   # forgotten
     (vx, _, _), _ = ObstacleSensing(ctx, nav).guard(ROBOT, ahead)
     assert vx < 0.25                                    # tracked: the base slows beside him
+
+
+@pytest.mark.parametrize("name", sorted(f.stem for f in WORLDS.glob("*.yaml")))
+def test_every_scanner_hit_on_the_maps_walls_and_furniture_is_explained(name):
+    """With no one about, nothing the scanners see is an obstacle off the map, from 150
+    random free poses: ``static_margin_m`` is wide enough for the map's own surfaces."""
+    scenario = load_scenario(WORLDS / f"{name}.yaml")
+    with Simulation(scenario.model_copy(update={"people": ()})) as sim:
+        nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
+                        CFG.static_margin_m)
+        free = np.argwhere(~nav.grid().blocked)
+        rng = np.random.default_rng(0)
+        for _ in range(150):
+            x, y = nav.grid().centre(tuple(free[rng.integers(len(free))]))
+            sim.robot.set_pose(x, y, rng.uniform(-math.pi, math.pi))
+            nav.observe(sim.robot.lasers.scan(), 0.0)
+        assert not nav.memory.active().any()
