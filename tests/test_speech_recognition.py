@@ -16,6 +16,7 @@ from app.sim.layout import Room
 from app.sim.robot import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
+from dialogue.addressee import AddresseeJudge
 from dialogue.manager import SAY_AGAIN, DialogueManager
 from dialogue.speech.recognizer import SpeechRecognizer, loudness
 from dialogue.speech.words import spoken_words
@@ -40,6 +41,13 @@ def test_a_known_sentence_said_a_metre_away_has_at_most_one_word_wrong(recognise
     words = jiwer.process_words(" ".join(spoken_words(text)), heard.text)
     assert words.substitutions + words.deletions + words.insertions <= 1, heard.text
     assert recogniser.understood(heard)
+
+
+def test_a_family_title_that_starts_a_line_is_heard_so_the_line_is_someone_elses(recogniser):
+    """The language model expects titles first (its ``vocatives`` lines); without them
+    "Dad" at the start of this line was heard as "that", and the line taken as the robot's."""
+    heard = recogniser.transcribe(recorded("Dad, are you coming to dinner?"), RATE)
+    assert not AddresseeJudge("Pip", ()).judge(heard.text).to_robot, heard.text
 
 
 def test_noise_alone_gives_no_words(recogniser):

@@ -36,6 +36,7 @@ class SourceWeights(StrictModel):
     own: float = Field(gt=0)
     conversation: float = Field(gt=0)
     topics: float = Field(gt=0)
+    vocatives: float = Field(gt=0)
 
 
 class TopicsConfig(StrictModel):

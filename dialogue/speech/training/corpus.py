@@ -9,7 +9,11 @@ from the project's own data and WordNet, in three sources counted with different
   happen to name;
 - ``conversation``: both sides of the chit-chat conversations (Papaya, chatterbot corpus);
 - ``topics``: questions about WordNet's most common nouns and people
-  (:mod:`dialogue.speech.training.topics`).
+  (:mod:`dialogue.speech.training.topics`);
+- ``vocatives``: each ``own`` line again after a family title drawn from the addressee
+  judge's ``family_words`` ("dad would you like ..."): people at home call each other by
+  title, and a recogniser that never expects a title first hears "that" for "dad", and the
+  line for someone else is taken as the robot's.
 
 Lines become spoken words (:func:`dialogue.speech.words.spoken_words`); a line with a word
 the pronunciation dictionary lacks is left out, since the recogniser could not say it.
@@ -88,14 +92,19 @@ def build_corpus(cfg: SpeechTrainConfig, known: set[str]) -> Corpus:
     """The language model's sentences by source, restricted to the words in ``known``."""
     own = [w for name in TRAIN_FILES for _, text in tsv_lines(name)
            if (w := spoken_words(text))]
-    own += _with_places(own, cfg, known)
     convs = read_chatterbot()
     if (folder := cfg.resolved(cfg.papaya_dir)) is not None:
         convs += read_papaya(folder)
+    addressee = load_conversation_config().addressee
+    titles, rng = sorted(addressee.family_words), random.Random(cfg.seed)
+    vocatives = [[rng.choice(titles), *words] for words in own
+                 if words[0] not in addressee.robot_words]
+    own += _with_places(own, cfg, known)
     lines = {"own": own,
              "conversation": [spoken_words(s) for c in convs for pair in c.pairs for s in pair],
              "topics": topic_lines(cfg.topics, load_conversation_config().knowledge.wordnet_dir,
-                                   known)}
+                                   known),
+             "vocatives": vocatives}
     corpus = Corpus()
     for name, sentences in lines.items():
         kept = [s for s in sentences if s and all(w in known for w in s)]
