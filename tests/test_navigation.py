@@ -200,8 +200,11 @@ def test_gives_up_after_the_timeout_and_stops():
 @pytest.mark.parametrize(("text", "expected"), [
     ("charge:\n  slow_distance_m: 0.2\n", "need slow_distance_m > security_distance_m"),
     ("charge:\n  body_radius: 0.4\n", "need body_radius <= robot_radius"),
+    ("charge:\n  tracks: {smoothing: 0.0}\n", "tracks.smoothing"),
+    ("charge:\n  tracks: {gate_m: -0.5}\n", "tracks.gate_m"),
+    ("charge:\n  tracks: {speed: 2.0}\n", "tracks.speed"),
 ])
-def test_charge_distances_that_contradict_each_other_are_refused(tmp_path, text, expected):
+def test_bad_charge_settings_are_refused_by_name(tmp_path, text, expected):
     path = tmp_path / "behaviour.yaml"
     path.write_text(text)
     with pytest.raises(ConfigError, match=expected):
