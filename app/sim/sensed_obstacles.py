@@ -6,9 +6,9 @@ the sensors: points where a laser ray or a depth-camera pixel met a surface that
 does not explain (farther than ``static_margin`` from every mapped footprint) mark their
 grid cell as seen *now*. A cell stays an obstacle for ``memory_s`` after it was last seen,
 or until a laser ray passes through it to something farther (the cell was seen free). The
-planner inflates these cells by the robot's radius like the map's obstacles. Things the
-scanners saw move are also tracked (:mod:`app.sim.obstacle_tracks`): while one is out of
-every ray's reach, the cells round where it is expected count as occupied too
+planner inflates these cells by the robot's radius like the map's obstacles. What the
+scanners see off the map is also tracked (:mod:`app.sim.obstacle_tracks`): while a track is
+out of every ray's reach, the cells round where it is expected count as occupied too
 (docs/navigation.md).
 """
 
