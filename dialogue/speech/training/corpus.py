@@ -1,5 +1,5 @@
 """The household language model's training lines: what people say to a companion robot,
-from the project's own data and WordNet, in three sources counted with different weights.
+from the project's own data and WordNet, in four sources counted with different weights.
 
 - ``own``: the intent router's and the feedback model's training utterances
   (``dialogue/data/*_train.tsv``; their held-out files are the recogniser's evaluation
@@ -95,15 +95,13 @@ def build_corpus(cfg: SpeechTrainConfig, known: set[str]) -> Corpus:
     convs = read_chatterbot()
     if (folder := cfg.resolved(cfg.papaya_dir)) is not None:
         convs += read_papaya(folder)
-    addressee = load_conversation_config().addressee
-    titles, rng = sorted(addressee.family_words), random.Random(cfg.seed)
-    vocatives = [[rng.choice(titles), *words] for words in own
-                 if words[0] not in addressee.robot_words]
+    conversation = load_conversation_config()
+    titles, rng = sorted(conversation.addressee.family_words), random.Random(cfg.seed)
+    vocatives = [[rng.choice(titles), *words] for words in own]
     own += _with_places(own, cfg, known)
     lines = {"own": own,
              "conversation": [spoken_words(s) for c in convs for pair in c.pairs for s in pair],
-             "topics": topic_lines(cfg.topics, load_conversation_config().knowledge.wordnet_dir,
-                                   known),
+             "topics": topic_lines(cfg.topics, conversation.knowledge.wordnet_dir, known),
              "vocatives": vocatives}
     corpus = Corpus()
     for name, sentences in lines.items():
