@@ -25,7 +25,7 @@ from app.sim.world import Footprint, Pose2D, World
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
 from behaviours.harness import run_skill
-from behaviours.skills.charge import build, predock_pose
+from behaviours.skills.charge import approach, build, predock_pose
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 CFG = load_behaviour_config()
@@ -209,6 +209,18 @@ def test_bad_charge_settings_are_refused_by_name(tmp_path, text, expected):
     path.write_text(text)
     with pytest.raises(ConfigError, match=expected):
         load_behaviour_config(path)
+
+
+def test_the_last_straight_knows_what_the_scanners_sensed_on_the_way():
+    with Simulation(load_scenario(WORLDS / "low_battery_night.yaml")) as sim:
+        sim.world.advance(0.0, 241.0)                   # Daniel has come in ...
+        sim.robot.set_pose(4.0, 2.0, 0.0)
+        sim.world.people["Daniel"].place(5.0, 2.0, math.pi)   # ... and stands 1 m ahead
+        tree = approach(make_context(sim, config=CFG))
+        tree.setup_with_descendants()
+        follow, dock_in = tree.decorated.children
+        follow.sensing.update(0.0, None, -math.inf)    # the path's scanners see him
+        assert dock_in.sensing.navigator.memory.active().any()
 
 
 def test_predock_pose_lies_behind_the_dock():

@@ -6,6 +6,8 @@ charger is unplugged."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import cache
 from itertools import pairwise
 from typing import Any
 
@@ -46,9 +48,11 @@ class FollowPath(StopBase):
     slides through cells where its base fits to the free cell where the path begins,
     turning only so that a scanner looks the way it slides."""
 
-    def __init__(self, name: str, ctx: Context, goal: Point) -> None:
+    def __init__(self, name: str, ctx: Context, goal: Point,
+                 sensing: Callable[[], ObstacleSensing]) -> None:
         super().__init__(name, ctx, reads=("depth", "frame_t"))
         self.goal = goal
+        self._sensing = sensing
         self.navigator: Navigator | None = None   # set in setup(), with the follower
         self.sensing: ObstacleSensing | None = None
         self.follower: PathFollower | None = None
@@ -60,7 +64,7 @@ class FollowPath(StopBase):
 
     def setup(self, **kwargs: Any) -> None:
         """The planner on the floor map's occupancy grid, its sensors, and the follower."""
-        self.sensing = ObstacleSensing.for_charge(self.ctx)
+        self.sensing = self._sensing()
         self.navigator = self.sensing.navigator
         self.follower = self.ctx.path_follower()
 
@@ -155,9 +159,11 @@ class DockIn(StopBase):
     the way to be cleared, once (a ``dock_blocked`` event; people standing near it step
     back, :meth:`app.sim.world.World.make_way`), and keeps trying until the deadline."""
 
-    def __init__(self, name: str, ctx: Context, dock: Pose2D) -> None:
+    def __init__(self, name: str, ctx: Context, dock: Pose2D,
+                 sensing: Callable[[], ObstacleSensing]) -> None:
         super().__init__(name, ctx)
         self.dock = dock
+        self._sensing = sensing
         self.follower: PathFollower | None = None   # set in setup(), with the sensing
         self.sensing: ObstacleSensing | None = None
         self._aligned = False
@@ -165,7 +171,7 @@ class DockIn(StopBase):
 
     def setup(self, **kwargs: Any) -> None:
         self.follower = self.ctx.path_follower()
-        self.sensing = ObstacleSensing.for_charge(self.ctx)
+        self.sensing = self._sensing()
 
     def initialise(self) -> None:
         self.follower.reset()
@@ -248,13 +254,16 @@ class PluggedIn(py_trees.decorators.PassThrough):
 
 
 def approach(ctx: Context) -> py_trees.behaviour.Behaviour:
-    """Drive to the pre-dock pose and dock, failing after ``charge.timeout_s``."""
+    """Drive to the pre-dock pose and dock, failing after ``charge.timeout_s``. Both driving
+    leaves share one obstacle sensing (made in the first one's ``setup``), so what the
+    scanners saw and track on the way is still known on the last straight."""
     cfg = ctx.config.charge
     dock = ctx.world.dock_pose()
     predock = predock_pose(dock, cfg.predock_distance)
+    sensing = cache(lambda: ObstacleSensing.for_charge(ctx))
     steps = py_trees.composites.Sequence("Approach dock", memory=True, children=[
-        FollowPath("Go to pre-dock", ctx, (predock.x, predock.y)),
-        DockIn("Dock in", ctx, dock)])
+        FollowPath("Go to pre-dock", ctx, (predock.x, predock.y), sensing),
+        DockIn("Dock in", ctx, dock, sensing)])
     return Deadline("Dock in time", steps, ctx, cfg.timeout_s)
 
 
