@@ -329,7 +329,7 @@ class Navigator:
     sensed them."""
 
     def __init__(self, world: World, resolution: float, radius: float, memory_s: float = 0.0,
-                 static_margin: float = 0.1, clearance: float = 0.0,
+                 static_margin: float = 0.05, clearance: float = 0.0,
                  body: float | None = None, tracks: TracksConfig | None = None) -> None:
         self.clearance = clearance
         rooms, static = tuple(world.room_bounds().values()), tuple(world.obstacles())

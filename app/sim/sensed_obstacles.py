@@ -37,24 +37,26 @@ class ObstacleMemory:
         self.expected = np.zeros(explained.shape, dtype=bool)   # round unseen tracks, now
         self.free = np.zeros(explained.shape, dtype=bool)       # the last scan's rays passed
 
-    def _inside(self, points: np.ndarray) -> np.ndarray:
-        """Which ``points`` ((N, 2) m) lie inside the grid."""
-        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
-                      / self.resolution)
-        return ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
-
     def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Indices of the cells holding ``points`` ((N, 2) m), those inside the grid only."""
+        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
+                      / self.resolution).astype(int)
+        ok = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
+        return ij[ok, 0], ij[ok, 1]
+
+    def _off_map(self, points: np.ndarray) -> np.ndarray:
+        """Those of ``points`` ((N, 2) m) inside the grid whose cells the map does not
+        explain."""
         points = np.asarray(points, dtype=float).reshape(-1, 2)
-        ij = np.floor((points[self._inside(points)] - self.origin) / self.resolution)
-        return ij[:, 0].astype(int), ij[:, 1].astype(int)
+        ij = np.floor((points - self.origin) / self.resolution).astype(int)
+        keep = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
+        keep[keep] = ~self.explained[ij[keep, 0], ij[keep, 1]]
+        return points[keep]
 
     def add(self, points: np.ndarray, now: float) -> None:
         """Points ((N, 2) m) where a sensor met a surface at time ``now``."""
         self.now = max(self.now, now)
-        i, j = self._cells(points)
-        keep = ~self.explained[i, j]
-        self.seen[i[keep], j[keep]] = now
+        self.seen[self._cells(self._off_map(points))] = now
 
     def clear(self, scan: Scan, now: float) -> None:
         """Forget the cells the rays of ``scan`` passed through: from each ray's start to a
@@ -82,11 +84,9 @@ class ObstacleMemory:
         """Follow the tracks with the scan's off-map hits; the cells round each track no hit
         continued, where the scan did not see (its rays' cells and their neighbours), are
         expected occupied; a track with none left is forgotten."""
-        i, j = self._cells(scan.points)
-        off_map = scan.points[self._inside(scan.points)][~self.explained[i, j]]
         unseen = ~ndimage.binary_dilation(self.free) & ~self.explained
         self.expected = np.zeros(self.seen.shape, dtype=bool)
-        for track in self.tracks.update(off_map, now):
+        for track in self.tracks.update(self._off_map(scan.points), now):
             disc = self._disc(track.at(now), self.tracks.cfg.radius_m) & unseen
             if disc.any():
                 self.expected |= disc
@@ -111,16 +111,18 @@ class ObstacleMemory:
         where the tracked things out of sight are expected now."""
         return (np.isfinite(self.seen) & (self.seen >= self.now - self.memory_s)) | self.expected
 
+    def _offsets(self, position: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+        """x and y (m) of the active cells' centres relative to ``position``."""
+        i, j = np.nonzero(self.active())
+        return (self.origin[0] + (i + 0.5) * self.resolution - position[0],
+                self.origin[1] + (j + 0.5) * self.resolution - position[1])
+
     def ahead(self, position: tuple[float, float], heading: float, reach: float,
               half_width: float, near: float) -> bool:
         """Whether an active cell's centre lies ahead of ``position`` towards ``heading``
         (rad): in the rectangle ``reach`` m long and ``half_width`` m to either side, or in
         the half disc of radius ``near`` on that side."""
-        i, j = np.nonzero(self.active())
-        if len(i) == 0:
-            return False
-        dx = self.origin[0] + (i + 0.5) * self.resolution - position[0]
-        dy = self.origin[1] + (j + 0.5) * self.resolution - position[1]
+        dx, dy = self._offsets(position)
         c, s = np.cos(heading), np.sin(heading)
         along, side = c * dx + s * dy, -s * dx + c * dy
         inside = ((along <= reach) & (np.abs(side) <= half_width)) | (np.hypot(dx, dy) <= near)
@@ -129,9 +131,7 @@ class ObstacleMemory:
     def nearest_ahead(self, position: tuple[float, float], heading: float) -> float:
         """Distance (m) from ``position`` to the nearest active cell's centre on the side
         of ``heading`` (rad): the half plane a move that way comes nearer to; inf if none."""
-        i, j = np.nonzero(self.active())
-        dx = self.origin[0] + (i + 0.5) * self.resolution - position[0]
-        dy = self.origin[1] + (j + 0.5) * self.resolution - position[1]
+        dx, dy = self._offsets(position)
         ahead = np.cos(heading) * dx + np.sin(heading) * dy >= 0
         return float(np.hypot(dx, dy)[ahead].min()) if ahead.any() else np.inf
 
