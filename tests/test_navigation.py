@@ -203,6 +203,7 @@ def test_gives_up_after_the_timeout_and_stops():
     ("charge:\n  tracks: {smoothing: 0.0}\n", "tracks.smoothing"),
     ("charge:\n  tracks: {gate_m: -0.5}\n", "tracks.gate_m"),
     ("charge:\n  tracks: {speed: 2.0}\n", "tracks.speed"),
+    ("charge:\n  tracks: {still_hold_s: -1}\n", "tracks.still_hold_s"),
 ])
 def test_bad_charge_settings_are_refused_by_name(tmp_path, text, expected):
     path = tmp_path / "behaviour.yaml"

@@ -178,6 +178,25 @@ def test_a_track_out_of_sight_is_expected_where_its_walk_takes_it_until_seen_fre
     assert not memory.expected.any() and memory.tracks.tracks == []   # seen free: forgotten
 
 
+def test_someone_who_stood_still_is_kept_out_of_sight_longer_than_a_walker():
+    """A walker's track lapses ``hold_s`` after the scans lost it; a track that stood still
+    is kept ``still_hold_s``: a guest standing behind the robot is still there."""
+    memory = ObstacleMemory(np.zeros((60, 60), dtype=bool), (0.0, 0.0), 0.05, memory_s=2.0,
+                            tracks=CFG.tracks)
+    for k in range(5):                                  # one standing, one walking along x
+        memory.observe(rays([(1.0, 0.2), (0.5 + 0.1 * k, 2.3)], [(1.02, 1.02),
+                            (0.52 + 0.1 * k, 2.02)], hit=True), 0.1 * k)
+    elsewhere = rays([(0.2, 0.2)], [(0.2, 0.5)], hit=False)
+    later = CFG.tracks.hold_s + 1.0
+    assert CFG.tracks.still_hold_s > later
+    memory.observe(elsewhere, later)
+    (x, y), = [track.position for track in memory.tracks.tracks]
+    assert (x, y) == pytest.approx((1.02, 1.02))        # the walker is forgotten
+    assert memory.active()[20, 20]                     # the one standing is not
+    memory.observe(elsewhere, 0.4 + CFG.tracks.still_hold_s + 0.1)
+    assert memory.tracks.tracks == [] and not memory.active().any()
+
+
 def test_a_person_walking_from_the_front_fan_into_the_gap_beside_it_is_still_avoided(household):
     sim, forgetful = household
     nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,

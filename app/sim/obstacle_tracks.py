@@ -8,8 +8,10 @@ see it free, so a memory of cells alone forgets them exactly when they come clos
 scan's off-map hits are therefore grouped into objects (points within ``cluster_m`` of
 each other: a person's two legs), matched to the tracks of the last scans (the nearest
 within ``gate_m`` of where each track was expected), and every track keeps a velocity
-estimate. A track no ray finds is expected where its velocity takes it, for ``hold_s``:
-the standard way a laser tracker keeps people through occlusions. The obstacle memory
+estimate. A track no ray finds is expected where its velocity takes it, for ``hold_s``
+(the standard way a laser tracker keeps people through occlusions), or for the longer
+``still_hold_s`` when it was standing still: a person who stood behind the robot is still
+there after the memory of the cells has lapsed. The obstacle memory
 takes the part of a disc round that place which the last scan did not see as occupied,
 and forgets the track once it saw all of it (docs/navigation.md).
 """
@@ -33,7 +35,9 @@ class TracksConfig(StrictModel):
     gate_m: PositiveFloat         # an object this near where a track was expected continues it
     max_speed: PositiveFloat      # m/s: no track is believed to move faster
     smoothing: float = Field(gt=0.0, le=1.0)   # share of each new velocity estimate
-    hold_s: NonNegativeFloat      # s an unseen track is kept where it is expected
+    hold_s: NonNegativeFloat      # s an unseen moving track is kept where it is expected
+    still_speed: NonNegativeFloat  # m/s: a track no faster than this is standing still ...
+    still_hold_s: NonNegativeFloat  # ... and kept this long unseen (people stay where they stood)
     radius_m: PositiveFloat       # the disc round an unseen track's expected centre: occupied
 
 
@@ -83,10 +87,16 @@ class ObstacleTracks:
                     followed.append(int(k))
                     taken.add(int(c))
         unseen = [t for k, t in enumerate(self.tracks)
-                  if k not in followed and now - t.seen <= cfg.hold_s]
+                  if k not in followed and now - t.seen <= self._hold(t)]
         new = [Track(found[c], np.zeros(2), now) for c in range(len(found)) if c not in taken]
         self.tracks = [self.tracks[k] for k in followed] + unseen + new
         return unseen
+
+    def _hold(self, track: Track) -> float:
+        """How long ``track`` is kept unseen: longer when it stood still, since where it is
+        then stays certain."""
+        still = float(np.hypot(*track.velocity)) <= self.cfg.still_speed
+        return self.cfg.still_hold_s if still else self.cfg.hold_s
 
     def forget(self, track: Track) -> None:
         """Drop ``track`` (everywhere it could be has been seen free)."""
