@@ -157,8 +157,9 @@ def addressee_metrics(said: dict[int, dict[str, Any]], events: list[dict[str, An
     """Whom the robot took lines to be for, against whom they were for: lines said to
     someone else, those it took as its own, and lines for it that it took as someone
     else's."""
-    judged = [(e["kind"], said[e["line"]]["to"] in AUDIENCES) for e in events
-              if e["kind"] in ("heard", "overheard") and e["line"] in said]
+    last = {e["line"]: e["kind"] for e in events   # the chat may overhear a line Sense took
+            if e["kind"] in ("heard", "overheard") and e["line"] in said}
+    judged = [(kind, said[line]["to"] in AUDIENCES) for line, kind in last.items()]
     return {
         "lines_for_others": sum(e["to"] not in AUDIENCES for e in said.values()),
         "lines_for_others_taken": judged.count(("heard", False)),

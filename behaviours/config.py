@@ -182,6 +182,15 @@ class ChatConfig(StrictModel):
     max_heard_age_s: PositiveFloat
 
 
+class GazeConfig(StrictModel):
+    """The camera's cue for whom a line is for (behaviours/speaker_gaze.py)."""
+
+    bearing_tolerance_deg: float = Field(gt=0, le=90)
+    min_confidence: float = Field(ge=0, le=1)
+    away_deg: float = Field(gt=0, lt=180)
+    within_s: float = Field(ge=0)
+
+
 class ListeningConfig(StrictModel):
     """Answering people (behaviours/listening.py, the chat skill): turning to a voice and
     the promise made while a safety action must finish."""
@@ -197,6 +206,7 @@ class ListeningConfig(StrictModel):
     activities: dict[str, str]
     closer_below_snr_db: float
     come_closer: str
+    gaze: GazeConfig
 
 
 class StandByConfig(StrictModel):

@@ -3,7 +3,9 @@
 - people's social events (the simulation's inbox): each sound the microphones recorded
   goes through the speech recogniser (``ctx.recognizer``); whom the words are said to is
   judged from them (:mod:`dialogue.addressee`: the robot, unless someone else is called by
-  name); a line for the robot that it made out is queued in ``heard`` (marked ``unclear``
+  name; a line whose words name no one may still be someone else's, which the chat skill
+  tells from the speaker's facing once it turned to them, :mod:`behaviours.speaker_gaze`);
+  a line for the robot that it made out is queued in ``heard`` (marked ``unclear``
   when the recogniser was unsure, so the chat skill asks for it again) and, like a person
   in front, makes the human-present stimulus: someone talking to the robot is an
   interaction; lines for someone else are logged as overheard; a line heard as praise or
@@ -91,10 +93,12 @@ class Sense(ContextBehaviour):
             return
         self._noticed = self.now
         assert self.addressee is not None, "setup() first"
-        to = self.addressee.judge(words.text).to
-        self._take(HeardLine(sound.line, sound.t, sound.person, words.text, to,
+        judged = self.addressee.judge(words.text)
+        by_name = bool(judged.cue) or self.addressee.names_robot(words.text)
+        self._take(HeardLine(sound.line, sound.t, sound.person, words.text, judged.to,
                              sound.bearing, words.confidence,
-                             unclear=not recognizer.understood(words), snr_db=words.snr_db))
+                             unclear=not recognizer.understood(words), snr_db=words.snr_db,
+                             by_name=by_name, ended=self.now))
 
     def _take(self, line: HeardLine) -> None:
         """Queue a line meant for the robot (heard, or typed on its tablet); log it."""

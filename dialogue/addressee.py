@@ -68,6 +68,10 @@ class AddresseeJudge:
                 return Addressee(word, word)
         return Addressee(ROBOT)
 
+    def names_robot(self, text: str) -> bool:
+        """Whether ``text`` calls the robot anywhere ("Well done, robot"), not only first."""
+        return not self.robot.isdisjoint(_WORD.findall(text.lower()))
+
     def _after_openers(self, words: list[str]) -> int:
         """Where the line starts once greetings and fillers are skipped."""
         at, moved = 0, True

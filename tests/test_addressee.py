@@ -32,6 +32,15 @@ def test_the_vocative_decides_whom_a_line_is_for(text: str, to: str) -> None:
     assert judged.to_robot == (to in ("robot", "everyone"))
 
 
+def test_a_line_that_calls_the_robot_last_still_names_it() -> None:
+    """Only the first words are a vocative, but a line that calls the robot anywhere names
+    it: the chat skill then leaves the camera's cue aside."""
+    judge = AddresseeJudge("Pip", HOUSEHOLD)
+    text = "you're doing a great job here robot keep it up"
+    assert judge.judge(text).cue == "" and judge.names_robot(text)
+    assert not judge.names_robot("is margaret coming today")
+
+
 def test_the_robot_never_takes_its_own_name_for_someone_elses() -> None:
     judge = AddresseeJudge("Tom", HOUSEHOLD)       # a household member shares its name
     assert judge.judge("Tom, sing us a song").to == "robot"

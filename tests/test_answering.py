@@ -99,6 +99,26 @@ def test_encouragement_and_the_addressee_are_made_out_from_the_words(tmp_path):
     assert not [e for e in events if e["kind"] == "say" and e.get("line") == 4]
 
 
+def test_a_line_that_names_no_one_is_overheard_when_its_speaker_looks_away(tmp_path):
+    """Tom stands in front of the robot, Sue beside him, out of the camera's view. Tom's
+    line to Sue names no one, so its words would make it the robot's, but he faces Sue as
+    he says it and the camera sees him turned away: overheard. His next line, said facing
+    the robot, is answered."""
+    base = living_room([], 30.0)
+    tom = base.people[0]
+    sue = tom.model_copy(update={"name": "Sue", "start": Start(x=2.6, y=1.4, yaw=0.0),
+                                 "events": ()})
+    said = (Event.model_validate({"at": 4.0, "say": {"text": "Just a small slice, thank you.",
+                                                     "to": "Sue"}}),
+            Event.model_validate({"at": 16.0, "say": "What time is it in London?"}))
+    tom = tom.model_copy(update={"start": Start(x=2.4, y=2.6, yaw=0.0), "events": said})
+    events, _ = run(base.model_copy(update={"people": (tom, sue)}), tmp_path)
+    overheard = [(e["line"], e["to"]) for e in events if e["kind"] == "overheard"]
+    assert overheard == [(1, "someone")]
+    replies = [e for e in events if e["kind"] == "say" and e.get("line")]
+    assert [(e["line"], e["route"]) for e in replies] == [(2, "time")]
+
+
 def test_a_line_too_faint_to_make_out_brings_its_speaker_closer(tmp_path):
     """The low-battery night: the robot charges on its dock and Daniel speaks from across
     the room, his voice hardly over the noise. The robot asks him to come closer; he walks

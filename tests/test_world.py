@@ -301,3 +301,34 @@ def test_a_looping_timeline_brings_everyone_back_each_period(tmp_path):
         assert all(at >= scenario.duration for at, text in said[len(first):])
     finally:
         p.disconnect(client)
+
+
+def test_a_speaker_faces_whom_they_talk_to_then_turns_back():
+    """People face whom they talk to (the robot's camera cue for whom a line is for): Tom
+    turns to Grace for his line to her and to the robot for his line to it, each time
+    turning back ``LOOK_AFTER_S`` after the line ends; Grace, walking, is not turned."""
+    from app.sim.gaze import LOOK_AFTER_S
+    from app.sim.scenario import Event, Start
+    from app.sim.simulation import Simulation
+    from app.sim.speech import speech_seconds
+
+    base = load_scenario(WORLDS / "living_room.yaml")   # the robot stands at (4.3, 2.6)
+    tom, grace = (next(q for q in base.people if q.name == n) for n in ("Tom", "Grace"))
+    to_grace, to_robot = "Would you pass the biscuits?", "What time is it?"
+    tom = tom.model_copy(update={"start": Start(x=3.0, y=1.6, yaw=180.0), "events": (
+        Event.model_validate({"at": 1.0, "say": {"text": to_grace, "to": "Grace"}}),
+        Event.model_validate({"at": 12.0, "say": to_robot}))})
+    grace = grace.model_copy(update={"start": Start(x=3.0, y=4.0, yaw=0.0), "events": (
+        Event.model_validate({"at": 12.0, "walk_to": {"x": 1.0, "y": 4.0}}),
+        Event.model_validate({"at": 12.5, "say": {"text": to_grace, "to": "Tom"}}))})
+    seen: dict[float, tuple[float, float]] = {}
+    with Simulation(base.model_copy(update={"people": (tom, grace)})) as sim:
+        while sim.t < 22.0:
+            sim.step()
+            seen[round(sim.t, 1)] = (sim.world.people["Tom"].yaw, sim.world.people["Grace"].yaw)
+    ends = 1.0 + speech_seconds(to_grace) + LOOK_AFTER_S, 12.0 + speech_seconds(to_robot)
+    assert math.degrees(seen[2.0][0]) == pytest.approx(90.0)             # to Grace, north
+    assert math.degrees(seen[round(ends[0] + 0.5, 1)][0]) == pytest.approx(180.0)   # back
+    assert math.degrees(seen[13.0][0]) == pytest.approx(math.degrees(math.atan2(1.0, 1.3)))
+    assert math.degrees(seen[round(ends[1] + LOOK_AFTER_S + 0.5, 1)][0]) == pytest.approx(180.0)
+    assert math.degrees(seen[13.0][1]) == pytest.approx(180.0)   # walking west, not turned

@@ -53,7 +53,10 @@ class HeardLine:
     """A line the robot recognised in a :class:`Sound`: ``text`` is its transcript,
     ``confidence`` how sure the recogniser was; ``promised``: the robot told the speaker it
     would answer later; ``unclear``: too unsure to act on, so the robot asks again;
-    ``snr_db``: the speech's loudness over the noise, as the recogniser estimated it."""
+    ``snr_db``: the speech's loudness over the noise, as the recogniser estimated it;
+    ``by_name``: the words said whom the line is for (a name, a title, "robot",
+    "everyone"; typed lines are the robot's), else it was taken as the robot's for want of
+    a name; ``ended``: when the robot had heard it out."""
 
     line: int
     t: float
@@ -65,6 +68,8 @@ class HeardLine:
     promised: bool = False
     unclear: bool = False
     snr_db: float = float("inf")   # how far the speech stood over the noise (typed: no noise)
+    by_name: bool = True
+    ended: float = 0.0             # when the robot had heard it out (s)
 
     @property
     def to_robot(self) -> bool:

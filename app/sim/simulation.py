@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pybullet as p
 
+from app.sim.gaze import TalkGaze
 from app.sim.hearing import Sound
 from app.sim.household_sound import HouseholdSound
 from app.sim.reactions import Reactions
@@ -67,6 +68,7 @@ class Simulation:
             except OSError as exc:   # no processes to spare: the frames are drawn here
                 log.warning("no camera helper (%s); frames are drawn in one process", exc)
         self._speaking: list[tuple[float, SayEvent, str]] = []   # (when it ends, line, kind)
+        self.gaze = TalkGaze(self.world)
 
     @classmethod
     def from_file(cls, path: str | Path, gui: bool = False) -> Simulation:
@@ -93,6 +95,7 @@ class Simulation:
         done = [(e, kind) for end, e, kind in self._speaking if end <= t_next + 1e-9]
         self._speaking = [s for s in self._speaking if s[0] > t_next + 1e-9]
         events += [sound for e, kind in done if (sound := self.sound.record(e, kind))]
+        self.gaze.release(t_next)
         self.robot.step(self.dt)
         p.stepSimulation(physicsClientId=self.client)
         self.steps += 1
@@ -105,7 +108,10 @@ class Simulation:
         self.reactions.show(self.t, action)
 
     def _speak(self, event: SayEvent, kind: str) -> None:
-        self._speaking.append((event.t + speech_seconds(event.text), event, kind))
+        end = event.t + speech_seconds(event.text)
+        self._speaking.append((end, event, kind))
+        x, y, _ = self.robot.pose()
+        self.gaze.turn(event, end, (x, y))
 
     def ask_again(self, line: int, closer: bool = False) -> None:
         """The robot asked for ``line`` to be said again (and, with ``closer``, its speaker

@@ -673,6 +673,10 @@ class World:
 
     # -- queries -------------------------------------------------------------------------------
 
+    def standing_still(self, name: str) -> bool:
+        """Whether person ``name`` is in the house and not walking."""
+        return name in self.people and name not in self._walks
+
     def position_of(self, name: str) -> tuple[float, float, float]:
         """Where the furniture item or object ``name`` stands (its base, m)."""
         pos, _ = p.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)

@@ -3,7 +3,9 @@
 Spoken to, the robot turns to the voice (:class:`behaviours.listening.FaceSpeaker`) and
 answers each queued line (``heard``, oldest first; see :func:`behaviours.listening.pending`)
 through the dialogue manager, the reply styled by the current mood. It answers once its
-head points at the voice, or after ``listening.answer_wait_s``. What a reply asks of the
+head points at the voice, or after ``listening.answer_wait_s``; a line whose words named
+no one it answers unless everyone seen near the voice, once the head turned, looks away
+(:mod:`behaviours.speaker_gaze`; the line is then logged as overheard). What a reply asks of the
 robot is carried out: a song goes to ``request`` (Decide starts sing and dance next, and
 the chat ends once the reply is said), a tablet page is shown (``tablet`` event). Started
 by the policy with nothing to answer, the robot opens with ``chat.opener``; then it needs a
@@ -21,7 +23,9 @@ from py_trees.common import Status
 from app.sim.hearing import HeardLine
 from behaviours.context import Context
 from behaviours.listening import FaceSpeaker, head_error, pending, reply_to
-from behaviours.skill import ContextBehaviour, Relieve
+from behaviours.person_range import PersonRange
+from behaviours.skill import ContextBehaviour, Relieve, people_in_view
+from behaviours.speaker_gaze import SpeakerGaze
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
 
@@ -56,14 +60,19 @@ class Converse(ContextBehaviour):
     been said; otherwise RUNNING."""
 
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
-        super().__init__(name, ctx, reads=("mood",),
+        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections"),
                          writes=("heard", "listening_to", "request"))
         self._busy_until = 0.0
         self._turned_at: float | None = None   # when the robot began turning to the voice
+        self.gaze: SpeakerGaze | None = None
 
     def setup(self, **kwargs: Any) -> None:
-        if self.ctx.dialogue is None:
+        ctx = self.ctx
+        if ctx.dialogue is None:
             raise ValueError("the chat skill needs ctx.dialogue (a DialogueManager)")
+        if ctx.facing is not None and ctx.detector is not None:
+            self.gaze = SpeakerGaze(ctx.facing, PersonRange(ctx.robot, ctx.config.perception),
+                                    ctx.config.listening.gaze)
 
     def initialise(self) -> None:
         self._busy_until, self._turned_at = self.now, None
@@ -84,6 +93,22 @@ class Converse(ContextBehaviour):
             cfg.answer_tolerance_deg)
         return aligned or self.now - self._turned_at >= cfg.answer_wait_s
 
+    def _for_robot(self, line: HeardLine) -> bool | None:
+        """Whether ``line`` is the robot's to answer: its words said so; else unless the
+        first frame that takes in the voice's surroundings, within ``gaze.within_s`` of the
+        line's end, shows everyone near the voice looking away
+        (:mod:`behaviours.speaker_gaze`). None while that frame is awaited, for at most
+        ``answer_wait_s`` since the robot began turning."""
+        if line.by_name or self.gaze is None or self.now - line.ended > self.gaze.cfg.within_s:
+            return True
+        frame = self.bb.frame
+        if (self.bb.frame_t == self.now and frame is not None
+                and self.gaze.covers(line.bearing, frame)):
+            people = people_in_view(self.ctx, self.bb.detections)
+            return not self.gaze.looks_away(line.bearing, frame, people)
+        waited = self.now - self._turned_at >= self.ctx.config.listening.answer_wait_s
+        return True if waited else None
+
     def update(self) -> Status:
         lines = self._pending()
         self.bb.heard = lines
@@ -93,7 +118,15 @@ class Converse(ContextBehaviour):
             return Status.SUCCESS
         if not lines or not self._ready(lines[0]):
             return Status.RUNNING
-        said, self.bb.heard = lines[0], lines[1:]
+        said = lines[0]
+        if (for_robot := self._for_robot(said)) is None:
+            return Status.RUNNING
+        self.bb.heard = lines[1:]
+        if not for_robot:
+            self.emit("overheard", line=said.line, person=said.person, text=said.text,
+                      to="someone", bearing=round(said.bearing, 3), seen_facing_away=True)
+            self.bb.listening_to = None
+            return Status.RUNNING
         reply, seconds = reply_to(self, said, self.bb.mood["positive"])
         self._busy_until = self.now + seconds
         if reply.action is not None and reply.action.name == "sing_dance":
