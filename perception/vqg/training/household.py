@@ -20,11 +20,11 @@ from typing import Any
 import numpy as np
 
 from app.core.config_files import ConfigError
+from app.sim.furnishings import FURNITURE_COLOURS, OBJECT_COLOURS
 from app.sim.layout import rgb
 from app.sim.robot import decode_segmentation
 from app.sim.scenario import Scenario
 from app.sim.simulation import Simulation
-from app.sim.world import FURNITURE_COLOURS, OBJECT_COLOURS
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgQuestionGenerator
 from perception.vqg.questions import is_grounded, parse_question

@@ -2,8 +2,9 @@
 and keep in the scene graph only what the frame shows.
 
 The room, light and furniture come from :mod:`perception.detector.training.data` and
-:func:`app.sim.world.furniture_parts`; mugs, plates, books, balls and the cake with its candles
-from :mod:`app.sim.world`'s primitive objects; the duck, teddy and tray from ``pybullet_data``.
+:func:`app.sim.furnishings.furniture_parts`; mugs, plates, books, balls and the cake with its
+candles from :mod:`app.sim.furnishings`'s primitive objects; the duck, teddy and tray from
+``pybullet_data``.
 
 Visibility rule: a node is kept when at least ``min_pixels[category]`` pixels of the
 segmentation mask belong to it (candles are the cake's own links and are counted one by one);
@@ -20,9 +21,9 @@ import numpy as np
 import pybullet as p
 import pybullet_data
 
+from app.sim.furnishings import URDF_OBJECTS, furniture_parts, object_xml
 from app.sim.layout import SceneObject
 from app.sim.people import Part, Person, build_body, load_urdf_text
-from app.sim.world import URDF_OBJECTS, furniture_parts, object_xml
 from perception.detector.config import ImageConfig, load_detector_config
 from perception.detector.training.data import DetectorScene, room_parts
 from perception.vqg.scene import PALETTE, Node, SceneGraph
