@@ -119,6 +119,11 @@ class Simulation:
         if (again := self.sound.asked_again(line, self.t, closer)) is not None:
             self._speak(again, "repeat")
 
+    def line_number(self) -> int:
+        """A number for a line that reaches the robot other than by voice (typed on its
+        tablet), counted with the lines people say."""
+        return self.sound.microphones.number()
+
     def ask_way(self) -> None:
         """The robot asked for its way to be cleared: the people near it step away
         (:meth:`World.make_way`)."""

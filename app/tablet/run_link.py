@@ -110,8 +110,7 @@ class RunTablet:
         sim, ctx = self.run.sim, self.run.ctx
         person = self.config.person
         yaw = sim.robot.pose()[2]          # typed at the chest tablet: the words as given
-        line = HeardLine(sim.sound.microphones.number(), sim.t, person, request.text, "robot",
-                         yaw)
+        line = HeardLine(sim.line_number(), sim.t, person, request.text, "robot", yaw)
         ctx.dialogue.context.mode = request.mode
         self._mode_line = clean_input(request.text) if request.mode != "auto" else None
         ctx.events.emit("tablet_line", line=line.line, text=request.text, mode=request.mode)
