@@ -29,6 +29,7 @@ from behaviours.context import Context
 from behaviours.skill import Relieve, Say
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
 from behaviours.skills.detour import Detour
+from behaviours.skills.person_front import PersonFront
 from behaviours.skills.search import Search, remember
 from perception.detector.yolo import Detection
 
@@ -66,13 +67,14 @@ class ApproachPerson(BoxSteering):
         self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
         self._spot: tuple[float, float] | None = None   # where the followed person stands
         self._detours = 0                        # detours taken for the followed person
-        self._front = [0.0, 0.0, 0]              # their facing: summed unit vector, frames
+        self.front: PersonFront | None = None   # which way they face (set in setup())
 
     def setup(self, **kwargs: Any) -> None:
         super().setup(**kwargs)
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
         self.detour = Detour(self.ctx)   # two occupancy grids of the floor map
         self.search = Search(self.ctx, self.detour)
+        self.front = PersonFront(self.ctx.facing, self.cfg)
 
     def initialise(self) -> None:
         super().initialise()
@@ -86,10 +88,7 @@ class ApproachPerson(BoxSteering):
         self.detour.cancel()
         self.search.turned, self._walking = 0.0, None
         self._detours = 0
-        self._forget_front()
-
-    def _forget_front(self) -> None:
-        self._front = [0.0, 0.0, 0]
+        self.front.forget()
 
     def update(self) -> Status:
         if self.now - self._start >= self.cfg.timeout_s:
@@ -141,7 +140,7 @@ class ApproachPerson(BoxSteering):
                 self._count_vanished()
             self._detours = 0
             self._spot = None
-            self._forget_front()
+            self.front.forget()
             self.forget()
             self.heading.reset()
             self.approach.reset()
@@ -223,7 +222,8 @@ class ApproachPerson(BoxSteering):
         near_at = self._near_since if math.isfinite(self._near_since) else math.inf
         face_clock = min(near_at, self._close_since + cfg.backoff_s)
         waited = max(0.0, self.now - face_clock) if close else 0.0
-        reading = self._facing(person, dist)
+        x, y, _ = self.ctx.robot.pose()
+        reading = self.front.read(self.bb.frame, person, self.locate(person), dist, (x, y))
         if (reading is not None and self._faces < cfg.face_frames
                 and self._detours < cfg.max_detours and self._to_front(reading[1], waited)
                 and self._start_detour(person, reading[0], to_front=True)):
@@ -241,7 +241,7 @@ class ApproachPerson(BoxSteering):
         elif arrived:
             self.command(0.0, 0.0, 0.0)
         elif (not (close or self._detours >= cfg.max_detours)
-              and self._start_detour(person, self._front_guess())):
+              and self._start_detour(person, self.front.guess())):
             return self._drive_detour()
         else:
             self.command(*self._avoid(vx, wz))
@@ -271,26 +271,6 @@ class ApproachPerson(BoxSteering):
         x, y, _ = self.ctx.robot.pose()
         return not self.detour.can_stand_near((x, y), self._spot)
 
-    def _facing(self, person: Detection, dist: float | None) -> tuple[float, float] | None:
-        """The world direction the followed person looks in and how far (rad) that is from
-        looking at the robot, once the facing model has read it confidently in
-        ``facing_frames`` frames within ``facing_max_distance_m``; else None."""
-        cfg, sense = self.cfg, self.ctx.facing
-        spot = self.locate(person)
-        if sense is None or dist is None or spot is None or dist > cfg.facing_max_distance_m:
-            return None
-        x, y, _ = self.ctx.robot.pose()
-        to_robot = math.atan2(y - spot[1], x - spot[0])
-        seen = sense.facing(self.bb.frame, person.box)
-        if seen.confidence >= cfg.facing_min_confidence:
-            world = to_robot + seen.angle
-            self._front = [self._front[0] + math.cos(world), self._front[1] + math.sin(world),
-                           self._front[2] + 1]
-        front = self._front_guess()
-        if front is None or self._front[2] < cfg.facing_frames:
-            return None
-        return front, abs(math.remainder(front - to_robot, math.tau))
-
     def _to_front(self, turned: float, waited: float) -> bool:
         """Whether to go round to the person's front: they look more than ``away_deg`` away
         from the robot (their face cannot show from here), or, near them with no face for
@@ -298,10 +278,6 @@ class ApproachPerson(BoxSteering):
         cfg = self.cfg
         return (turned > math.radians(cfg.away_deg)
                 or (waited >= cfg.face_wait_s and turned > math.radians(cfg.front_tolerance_deg)))
-
-    def _front_guess(self) -> float | None:
-        """The mean of the facing readings so far (world direction), or None."""
-        return math.atan2(self._front[1], self._front[0]) if self._front[2] else None
 
     def _start_detour(self, person: Detection, front: float | None = None,
                       to_front: bool = False) -> bool:
@@ -316,7 +292,7 @@ class ApproachPerson(BoxSteering):
         if path is None:
             return False
         self._detours += 1
-        self._forget_front()   # read their facing afresh from where the detour ends
+        self.front.forget()   # read their facing afresh from where the detour ends
         self.emit("detour", person=[round(v, 2) for v in spot],
                   waypoints=[[round(a, 2), round(b, 2)] for a, b in path],
                   front_deg=None if front is None else round(math.degrees(front), 1))
