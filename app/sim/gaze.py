@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from app.sim.scenario import AUDIENCES
 from app.sim.world import SayEvent, World
 
 LOOK_AFTER_S = 4.0   # s a speaker keeps facing whom they spoke to once the line ends
@@ -37,7 +38,7 @@ class TalkGaze:
         """``event``'s speaker faces the one it is said to (the robot at ``robot``) until
         ``until`` plus ``LOOK_AFTER_S``, when they are in the house and not walking."""
         people, name = self.world.people, event.person
-        if event.to == "robot":
+        if event.to == AUDIENCES[0]:      # the robot
             target: tuple[float, float] | None = robot
         else:
             other = people.get(event.to)
