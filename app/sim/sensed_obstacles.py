@@ -37,21 +37,23 @@ class ObstacleMemory:
         self.expected = np.zeros(explained.shape, dtype=bool)   # round unseen tracks, now
         self.free = np.zeros(explained.shape, dtype=bool)       # the last scan's rays passed
 
+    def _in_grid(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Those of ``points`` ((N, 2) m) inside the grid, and their cells' indices."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        ij = np.floor((points - self.origin) / self.resolution).astype(int)
+        ok = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
+        return points[ok], ij[ok]
+
     def _cells(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Indices of the cells holding ``points`` ((N, 2) m), those inside the grid only."""
-        ij = np.floor((np.asarray(points, dtype=float).reshape(-1, 2) - self.origin)
-                      / self.resolution).astype(int)
-        ok = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
-        return ij[ok, 0], ij[ok, 1]
+        _, ij = self._in_grid(points)
+        return ij[:, 0], ij[:, 1]
 
     def _off_map(self, points: np.ndarray) -> np.ndarray:
         """Those of ``points`` ((N, 2) m) inside the grid whose cells the map does not
         explain."""
-        points = np.asarray(points, dtype=float).reshape(-1, 2)
-        ij = np.floor((points - self.origin) / self.resolution).astype(int)
-        keep = ((ij >= 0) & (ij < np.array(self.seen.shape))).all(axis=1)
-        keep[keep] = ~self.explained[ij[keep, 0], ij[keep, 1]]
-        return points[keep]
+        points, ij = self._in_grid(points)
+        return points[~self.explained[ij[:, 0], ij[:, 1]]]
 
     def add(self, points: np.ndarray, now: float) -> None:
         """Points ((N, 2) m) where a sensor met a surface at time ``now``."""
