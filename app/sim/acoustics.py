@@ -230,10 +230,18 @@ class Acoustics:
                        noises: Mapping[str, np.ndarray], rng: np.random.Generator
                        ) -> np.ndarray:
         """What the microphones record (16 kHz floats, 1.0 = one 16-bit step) while
-        ``voice`` (samples at ``rate``) is said at ``speaker``: its direct and reverberant
-        sound and the background (``noises``: a loop of each kind of :meth:`noise_levels`
-        at 16 kHz and unit RMS, entered at a random point), from ``lead_s`` before the voice
-        to ``trail_s`` after it."""
+        ``voice`` (samples at ``rate``) is said at ``speaker``: the sum of the two parts of
+        :meth:`parts_at_microphones`."""
+        said, background = self.parts_at_microphones(voice, rate, speaker, listener, noises, rng)
+        return said + background
+
+    def parts_at_microphones(self, voice: np.ndarray, rate: int, speaker: Point,
+                             listener: Point, noises: Mapping[str, np.ndarray],
+                             rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """The two parts of what the microphones record while ``voice`` is said at
+        ``speaker``, from ``lead_s`` before the voice to ``trail_s`` after it: the voice's
+        direct and reverberant sound, and the background (``noises``: a loop of each kind
+        of :meth:`noise_levels` at 16 kHz and unit RMS, entered at a random point)."""
         cfg = self.cfg
         x = resampled(voice, rate)
         x /= max(float(np.sqrt((x ** 2).mean())), 1e-9)     # unit RMS: the voice at 1 m
@@ -242,14 +250,15 @@ class Acoustics:
         t60 = reverberation(room, cfg.absorption)[0] if room is not None else 0.3
         wet = fftconvolve(x, _tail(round(t60, 2), int(rng.integers(8))))
         lead, trail = int(cfg.lead_s * RATE), int(cfg.trail_s * RATE)
-        out = np.zeros(lead + len(wet) + trail)
-        out[lead:lead + len(x)] += x * _rms(cfg.speech_db + direct)
-        out[lead:lead + len(wet)] += wet * _rms(cfg.speech_db + reverberant)
+        said = np.zeros(lead + len(wet) + trail)
+        said[lead:lead + len(x)] += x * _rms(cfg.speech_db + direct)
+        said[lead:lead + len(wet)] += wet * _rms(cfg.speech_db + reverberant)
+        background = np.zeros_like(said)
         for kind, level in self.noise_levels(listener).items():
             loop = noises[kind]
             start = int(rng.integers(len(loop)))
-            out += np.resize(np.roll(loop, -start), len(out)) * _rms(level)
-        return out
+            background += np.resize(np.roll(loop, -start), len(said)) * _rms(level)
+        return said, background
 
 
 def _rms(level_db: float) -> float:

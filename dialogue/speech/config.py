@@ -9,7 +9,12 @@ from typing import Self
 from pydantic import Field, model_validator
 
 from app.core.config_files import StrictModel, load_model
+from app.core.errors import UserError
 from app.core.paths import REPO_ROOT
+
+
+class SpeechModelError(UserError):
+    """The recogniser's model files are missing or unreadable."""
 
 
 def from_root(path: Path) -> Path:
@@ -23,6 +28,7 @@ class SpeechModelConfig(StrictModel):
     language_model: Path
     dictionary: Path
     acoustic_model: Path | None   # None: the wheel's own en-US model, as it ships
+    enhancer: Path | None         # None: the recordings are decoded as they are
     language_weight: float = Field(gt=0, le=50)
 
     def path(self, name: Path) -> Path:
@@ -74,6 +80,19 @@ class SpeechTrainConfig(StrictModel):
         return None if folder is None else from_root(folder)
 
 
+def _check_ranges(cfg: SpeechAdaptConfig | EnhancerTrainConfig, names: tuple[str, ...],
+                  zero: bool) -> None:
+    """Refuse a ``(low, high)`` setting of ``cfg`` that is not ordered or starts below 0
+    (at 0 too unless ``zero``), and rooms too shallow to talk across."""
+    for name in names:
+        low, high = getattr(cfg, name)
+        if not (low >= 0 if zero else low > 0) or low > high:
+            sign = "<=" if zero else "<"
+            raise ValueError(f"{name}: need 0 {sign} low <= high, got {low}, {high}")
+    if cfg.room_depth_m[0] < 2.5:
+        raise ValueError("room_depth_m: rooms less than 2.5 m deep leave no room to talk")
+
+
 class SpeechAdaptConfig(StrictModel):
     """How the acoustic model is adapted to the household (dialogue/speech/training/
     acoustic.py): how its training lines are said and recorded, and how often re-estimated."""
@@ -90,12 +109,40 @@ class SpeechAdaptConfig(StrictModel):
 
     @model_validator(mode="after")
     def _ranges(self) -> Self:
-        for name in ("distance_m", "room_width_m", "room_depth_m"):
-            low, high = getattr(self, name)
-            if not 0 < low <= high:
-                raise ValueError(f"{name}: need 0 < low <= high, got {low}, {high}")
-        if self.room_depth_m[0] < 2.5:
-            raise ValueError("room_depth_m: rooms less than 2.5 m deep leave no room to talk")
+        _check_ranges(self, ("distance_m", "room_width_m", "room_depth_m"), zero=False)
+        return self
+
+
+class EnhancerTrainConfig(StrictModel):
+    """How the voice enhancer is trained (dialogue/speech/training/enhancer.py): its
+    sounds, its network's size and the optimiser's settings."""
+
+    examples: int = Field(ge=10)
+    programmes: int = Field(ge=1)
+    other_accents: list[str] = Field(min_length=1)
+    other_variants: list[str] = Field(min_length=1)
+    bed_share: tuple[float, float]
+    tv_share: float = Field(ge=0, le=1)
+    tv_db: tuple[float, float]
+    distance_m: tuple[float, float]
+    room_width_m: tuple[float, float]
+    room_depth_m: tuple[float, float]
+    hidden: int = Field(ge=8, le=1024)
+    layers: int = Field(ge=1, le=4)
+    mask_floor: float = Field(ge=0, lt=1)
+    compression: float = Field(gt=0, le=1)
+    epochs: int = Field(ge=1)
+    batch: int = Field(ge=1)
+    crop_frames: int = Field(ge=16)
+    learning_rate: float = Field(gt=0)
+    validation_share: float = Field(gt=0, lt=1)
+    threads: int = Field(ge=1)
+    seed: int = Field(ge=0)
+
+    @model_validator(mode="after")
+    def _ranges(self) -> Self:
+        _check_ranges(self, ("bed_share", "tv_db", "distance_m", "room_width_m",
+                             "room_depth_m"), zero=True)
         return self
 
 
@@ -108,6 +155,7 @@ class SpeechConfig(StrictModel):
     min_level_db: float = Field(ge=0, le=100)
     train: SpeechTrainConfig
     adapt: SpeechAdaptConfig
+    enhance: EnhancerTrainConfig
 
 
 def load_speech_config(path: str | Path | None = None) -> SpeechConfig:

@@ -19,9 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
 from app.sim.acoustics import RATE, REFERENCE_DB, resampled
-from dialogue.speech.config import SpeechConfig, load_speech_config
+from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
@@ -35,10 +34,6 @@ def wheel_model_dir() -> Path:
     from pocketsphinx import get_model_path
 
     return Path(get_model_path()) / "en-us"
-
-
-class SpeechModelError(UserError):
-    """The recogniser's model files are missing or unreadable."""
 
 
 @dataclass(frozen=True)
@@ -90,10 +85,18 @@ class SpeechRecognizer:
         # does not depend on the sounds heard before it
         self.decoder = Decoder(Config(hmm=str(hmm), lm=str(lm), dict=str(words),
                                       lw=m.language_weight, cmn="batch", loglevel="FATAL"))
+        self.enhancer = None
+        if m.enhancer is not None:
+            from dialogue.speech.enhancer import VoiceEnhancer
+
+            self.enhancer = VoiceEnhancer(m.path(m.enhancer))
 
     def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
-        """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR."""
+        """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR
+        (both after the enhancer, when there is one, has taken out what is not a voice)."""
         x = resampled(samples, rate)
+        if self.enhancer is not None:
+            x = self.enhancer.enhance(x)
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
             return Transcript("", 0.0, snr)

@@ -26,10 +26,10 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, default=None, help="YAML merged over speech.yaml")
     p.add_argument("--out", type=Path, default=MODELS_DIR / "speech",
                    help="folder for household.lm.bin, household.dict, household.json and "
-                        "the adapted acoustic model in acoustic/")
-    p.add_argument("--only", choices=("language", "acoustic"), default=None,
-                   help="make only the language model (seconds) or only the acoustic "
-                        "model (minutes)")
+                        "the adapted acoustic model in acoustic/ and enhancer.pt")
+    p.add_argument("--only", choices=("language", "acoustic", "enhancer"), default=None,
+                   help="make only the language model (seconds), the acoustic model "
+                        "(minutes) or the voice enhancer (about an hour)")
     p.set_defaults(func=run_train)
 
 
@@ -53,14 +53,22 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
 def run_train(args: argparse.Namespace) -> int:
     """``companion train asr``."""
     from dialogue.speech.config import load_speech_config
-    from dialogue.speech.training.acoustic import adapt_acoustic_model
-    from dialogue.speech.training.train import evaluation_words, train_language_model
+    from dialogue.speech.training.acoustic import adapt_acoustic_model, adaptation_lines
+    from dialogue.speech.training.enhancer import train_enhancer
+    from dialogue.speech.training.train import (
+        evaluation_words,
+        full_dictionary,
+        train_language_model,
+    )
 
     cfg = load_speech_config(args.config)
     figures: dict[str, object] = {}
-    if args.only != "acoustic":
+    if args.only in (None, "language"):
         figures["language_model"] = train_language_model(cfg, args.out)
-    if args.only != "language":
+    if args.only in (None, "enhancer"):
+        lines = adaptation_lines(evaluation_words(), set(full_dictionary()))
+        figures["enhancer"] = train_enhancer(cfg.enhance, lines, args.out, progress=print)
+    if args.only in (None, "acoustic"):
         figures["acoustic_model"] = adapt_acoustic_model(
             cfg.adapt, evaluation_words(), args.out / "acoustic", progress=print)
     print(json.dumps(figures, indent=2))

@@ -16,9 +16,11 @@ ROBOT_FROM_WALL_M = 1.0   # the robot stands this far from the near wall, in the
 NOISES = ("quiet", "tv")
 
 
-def living_room(width: float, depth: float, noise: str) -> tuple[Acoustics, Point]:
-    """The room's acoustics and where the robot stands in it."""
-    source = RoomNoise(source="tv", source_db=TV_DB) if noise == "tv" else RoomNoise()
+def living_room(width: float, depth: float, noise: str, tv_db: float = TV_DB
+                ) -> tuple[Acoustics, Point]:
+    """The room's acoustics (the TV, when ``noise`` is ``tv``, at ``tv_db`` one metre in
+    front of it) and where the robot stands in it."""
+    source = RoomNoise(source="tv", source_db=tv_db) if noise == "tv" else RoomNoise()
     lounge = Room(name="lounge", x=(0.0, width), y=(0.0, depth), noise=source)
     tv = (width / 2, depth - 0.2)
     return (Acoustics(load_robot_config().acoustics, [lounge], [], {"tv": tv}),
