@@ -93,13 +93,16 @@ class SpeechRecognizer:
 
     def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
         """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR
-        (both after the enhancer, when there is one, has taken out what is not a voice)."""
+        as the microphones recorded it (how well the robot hears from where it is). Whether
+        it is speech at all is judged after the enhancer, when there is one, has taken out
+        what is not a household voice."""
         x = resampled(samples, rate)
+        heard_snr = loudness(x)[1]
         if self.enhancer is not None:
             x = self.enhancer.enhance(x)
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
-            return Transcript("", 0.0, snr)
+            return Transcript("", 0.0, heard_snr)
         pcm = np.clip(np.round(x), -32768, 32767).astype(np.int16).tobytes()
         d = self.decoder
         d.start_utt()
@@ -109,7 +112,7 @@ class SpeechRecognizer:
         text = hyp.hypstr.strip() if hyp is not None else ""
         n = len(text.split())
         confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
-        return Transcript(text, min(max(confidence, 0.0), 1.0), snr)
+        return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr)
 
     def understood(self, transcript: Transcript) -> bool:
         """Whether ``transcript`` is sure enough to act on (else: ask again)."""
