@@ -121,6 +121,9 @@ class EnhancerTrainConfig(StrictModel):
     programmes: int = Field(ge=1)
     other_accents: list[str] = Field(min_length=1)
     other_variants: list[str] = Field(min_length=1)
+    other_pitch: tuple[int, int]
+    other_speed: tuple[int, int]
+    pause_s: tuple[float, float]
     bed_share: tuple[float, float]
     tv_share: float = Field(ge=0, le=1)
     tv_db: tuple[float, float]
@@ -135,14 +138,15 @@ class EnhancerTrainConfig(StrictModel):
     batch: int = Field(ge=1)
     crop_frames: int = Field(ge=16)
     learning_rate: float = Field(gt=0)
+    max_grad_norm: float = Field(gt=0)
     validation_share: float = Field(gt=0, lt=1)
     threads: int = Field(ge=1)
     seed: int = Field(ge=0)
 
     @model_validator(mode="after")
     def _ranges(self) -> Self:
-        _check_ranges(self, ("bed_share", "tv_db", "distance_m", "room_width_m",
-                             "room_depth_m"), zero=True)
+        _check_ranges(self, ("other_pitch", "other_speed", "pause_s", "bed_share", "tv_db",
+                             "distance_m", "room_width_m", "room_depth_m"), zero=True)
         return self
 
 

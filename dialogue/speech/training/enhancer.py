@@ -89,7 +89,7 @@ def train_enhancer(cfg: EnhancerTrainConfig, lines: list[list[str]], out_dir: Pa
             loss = spectral_loss(net, mixed, voice, cfg.compression)
             optimiser.zero_grad()
             loss.backward()
-            torch.nn.utils.clip_grad_norm_(net.parameters(), 5.0)
+            torch.nn.utils.clip_grad_norm_(net.parameters(), cfg.max_grad_norm)
             optimiser.step()
             schedule.step()
             losses.append(loss.item())

@@ -51,9 +51,10 @@ def programme(cfg: EnhancerTrainConfig, sentences: list[str], rng: np.random.Gen
     while sum(len(p) for p in parts) < LOOP_S * RATE:
         voice = Voice(name=str(rng.choice(cfg.other_accents)),
                       variant=str(rng.choice(cfg.other_variants)),
-                      pitch=int(rng.integers(30, 80)), speed=int(rng.integers(140, 190)))
+                      pitch=int(rng.integers(*cfg.other_pitch)),
+                      speed=int(rng.integers(*cfg.other_speed)))
         samples, rate = synthesise(str(rng.choice(sentences)), voice)
-        parts += [resampled(samples, rate), np.zeros(int(rng.uniform(0.1, 0.6) * RATE))]
+        parts += [resampled(samples, rate), np.zeros(int(rng.uniform(*cfg.pause_s) * RATE))]
     talk = unit(np.concatenate(parts)[: int(LOOP_S * RATE)])
     bed = pink_noise(LOOP_S, int(rng.integers(1 << 30)))
     return unit(talk + rng.uniform(*cfg.bed_share) * bed)
