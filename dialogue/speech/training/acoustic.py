@@ -39,7 +39,7 @@ from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.speech.config import SpeechAdaptConfig
 from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
-from dialogue.speech.training.rooms import living_room, speaker_at
+from dialogue.speech.training.rooms import living_room, speaker_within
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import full_dictionary
 from dialogue.speech.words import spoken_words
@@ -101,8 +101,7 @@ def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
             width, depth = rng.uniform(*cfg.room_width_m), rng.uniform(*cfg.room_depth_m)
             noise = "tv" if rng.random() < cfg.tv_share else "quiet"
             acoustics, robot = living_room(width, depth, noise)
-            reach = min(cfg.distance_m[1], depth - robot[1] - 0.5)
-            speaker = speaker_at(robot, rng.uniform(cfg.distance_m[0], reach), rng)
+            speaker = speaker_within(robot, depth, cfg.distance_m, rng)
             samples, rate = synthesise(" ".join(words), voice)
             audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
             fid = f"c{copy}_{k:05d}"

@@ -24,7 +24,7 @@ from dialogue.chat.sources import chatterbot_conversations
 from dialogue.chat.training.data import chatterbot_dir
 from dialogue.speech.config import EnhancerTrainConfig
 from dialogue.speech.enhancer import log_power, spectrum
-from dialogue.speech.training.rooms import living_room, speaker_at
+from dialogue.speech.training.rooms import living_room, speaker_within
 
 
 @dataclass
@@ -76,8 +76,7 @@ def make_examples(lines: list[list[str]], cfg: EnhancerTrainConfig,
         tv = rng.random() < cfg.tv_share
         acoustics, robot = living_room(width, depth, "tv" if tv else "quiet",
                                        float(rng.uniform(*cfg.tv_db)))
-        reach = min(cfg.distance_m[1], depth - robot[1] - 0.5)
-        speaker = speaker_at(robot, rng.uniform(cfg.distance_m[0], reach), rng)
+        speaker = speaker_within(robot, depth, cfg.distance_m, rng)
         samples, rate = synthesise(" ".join(words), voice)
         noises = {"steady": steady, "programme": loops[int(rng.integers(len(loops)))]}
         said, background = acoustics.parts_at_microphones(samples, rate, speaker, robot,

@@ -31,3 +31,11 @@ def speaker_at(robot: Point, distance: float, rng: np.random.Generator) -> Point
     """A place ``distance`` m in front of the robot, 40-140 degrees off the near wall."""
     angle = math.radians(rng.uniform(40, 140))
     return robot[0] + distance * math.cos(angle), robot[1] + distance * math.sin(angle)
+
+
+def speaker_within(robot: Point, depth: float, distance_m: tuple[float, float],
+                   rng: np.random.Generator) -> Point:
+    """A place at a drawn distance in ``distance_m`` in front of the robot (the far end
+    capped half a metre short of the far wall of a room ``depth`` deep)."""
+    reach = min(distance_m[1], depth - robot[1] - 0.5)
+    return speaker_at(robot, rng.uniform(distance_m[0], reach), rng)
