@@ -71,6 +71,11 @@ def test_weather_from_a_block() -> None:
     garden = answer_weather("Is it going to rain tomorrow? I'd like to sit in the garden.",
                             provider)
     assert garden.found and "Taipei" in garden.text
+    # an everyday word before a preposition is not a town ("in time for": not Time, Norway)
+    picnic = answer_weather("will it be sunny in time for the picnic", provider)
+    assert picnic.found and "Taipei" in picnic.text
+    assert "Nice" in answer_weather("What's the weather in Nice for the weekend?",
+                                    provider).text
 
 
 def test_weather_missing_city_and_bad_block() -> None:

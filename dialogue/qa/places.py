@@ -91,6 +91,15 @@ def _capitalised(pairs: list[tuple[str, str]], word: str, after: int) -> bool:
     return any(n == word and raw[:1].isupper() for n, raw in pairs[after + 1:after + 5])
 
 
+def _idiom(rest: list[str], n: int, pairs: list[tuple[str, str]], after: int) -> bool:
+    """Whether the first ``n`` words of ``rest`` (after the preposition at ``after``) are an
+    everyday word, not written as a name, that a preposition follows: "in time for the
+    picnic" and "at best for now" name no place, "in Nice for the weekend" does."""
+    phrase = " ".join(rest[:n])
+    return (phrase in COMMON and n < len(rest) and rest[n] in PREPOSITIONS
+            and not _capitalised(pairs, rest[0], after))
+
+
 def find_place(text: str) -> tuple[Place | None, str | None]:
     """The place a sentence names, and otherwise the name it seemed to give (or None).
 
@@ -112,7 +121,7 @@ def find_place(text: str) -> tuple[Place | None, str | None]:
             rest = rest[1:]
         for n in range(len(rest), 0, -1):
             place = lookup(" ".join(rest[:n]))
-            if place:
+            if place and not _idiom(rest, n, pairs, i):
                 return place, None
         head = []
         for r in rest:
