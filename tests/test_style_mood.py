@@ -146,10 +146,24 @@ def test_a_closing_joins_the_opening_only_when_no_opening_convinces_the_judge(
     assert said.judged == "positive"
 
 
+def test_no_mood_phrase_contradicts_the_reply(lm, judge, transfer, tmp_path):
+    strict = "gate: {min_content_kept: 1.0, max_perplexity_ratio: 0.01}\n"
+    gate = styler(lm, judge, transfer, tmp_path, strict)
+    for text, mood in (("I'm sorry that you aren't happy.", "positive"),
+                       ("Great, thank you.", "negative")):
+        said = gate.style(text, mood)
+        assert (said.source, said.text) == ("kept", text), said
+        assert "contradict" in said.reason
+    asked = styler(lm, judge, transfer, tmp_path, strict + "fallback: {questions: false}\n")
+    assert asked.style("Would you like some delicious cake?", "negative").source == "kept"
+    assert gate.style("Would you like some delicious cake?", "negative").source == "fallback"
+
+
 @pytest.mark.parametrize("override", [
     "gate: {min_content_kept: 1.5}\n", "gate: {max_perplexity_ratio: 0}\n",
     "openings: {positive: []}\n", "openings: {negative: ['  ']}\n", "gate: {typo: 1}\n",
-    "bigram: {discount: 1.0}\n", "gate: {min_new_bigram_count: -1}\n"])
+    "bigram: {discount: 1.0}\n", "gate: {min_new_bigram_count: -1}\n",
+    "fallback: {contrary: {positive: ['']}}\n"])
 def test_bad_mood_config_is_an_error(tmp_path, override):
     path = tmp_path / "mood.yaml"
     path.write_text(override)

@@ -18,8 +18,10 @@ and it has as many numbers as the reply (put back as the reply wrote them).
 
 Otherwise the robot says the unstyled reply after an opening of the mood ("Sadly, ..."),
 and with a closing of the mood too when no opening alone convinces the judge (both lists
-in ``app/defaults/mood_style.yaml``). A reply the judge already puts on the mood's side is
-said unchanged. Each result says where its text came from (:data:`SOURCES`).
+in ``app/defaults/mood_style.yaml``), except where such a phrase would contradict the
+reply: a question, or a reply with a word of ``fallback.contrary`` (an apology in a cheerful
+mood, thanks in a gloomy one) is said as it is (``kept``). A reply the judge already puts
+on the mood's side is said unchanged. Each result says where its text came from (:data:`SOURCES`).
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ from dialogue.style.transfer import StyleTransfer, readable
 from textnets.batch import make_batch
 from textnets.vocab import Vocab
 
-SOURCES = ("model", "fallback", "unchanged")
+SOURCES = ("model", "fallback", "kept", "unchanged")
 _OPENERS_TEXT = ("yes no okay ok well sure nothing hey sorry thanks thank please oh hmm maybe "
                  "because good great fine pretty really although let")
 OPENERS = frozenset(_OPENERS_TEXT.split())   # first words that start no name
@@ -169,10 +171,23 @@ class MoodStyler:
         if why is None:
             return MoodReply(candidate, "model", candidate, None, mood,
                              content_kept(source, words), self.ratio(source, words))
+        if clash := self.contradicted(source, mood):
+            return MoodReply(text, "kept", candidate, f"{why}; and {clash}", judged, 1.0, 1.0)
         said = self.fallback(text, mood)
         said_words = tokenize(said)
         return MoodReply(said, "fallback", candidate, why, self.side(said_words),
                          content_kept(source, said_words), self.ratio(source, said_words))
+
+    def contradicted(self, words: Sequence[str], mood: str) -> str | None:
+        """Why a phrase of ``mood`` before or after the reply ``words`` would contradict it
+        (None when it would not): a question, with ``fallback.questions`` off, or a word of
+        ``fallback.contrary`` for the mood ("sorry" in a cheerful mood)."""
+        if not self.cfg.fallback.questions and "?" in words:
+            return "a mood phrase does not go with a question"
+        said = f" {' '.join(words)} "
+        hit = next((c for c in getattr(self.cfg.fallback.contrary, mood)
+                    if f" {' '.join(tokenize(c))} " in said), None)
+        return None if hit is None else f"a {mood} phrase would contradict {hit!r}"
 
     def fallback(self, text: str, mood: str) -> str:
         """The unstyled reply after an opening of ``mood``: the most fluent of those that put

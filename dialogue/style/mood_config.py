@@ -35,6 +35,14 @@ class MoodPhrases(StrictModel):
         return [v.strip() for v in value]
 
 
+class FallbackConfig(StrictModel):
+    """When the fallback says the unstyled reply as it is (``kept``) rather than after a
+    mood phrase that would contradict it."""
+
+    questions: bool   # whether a question gets a mood phrase
+    contrary: MoodPhrases   # per mood: words of a reply that a phrase of the mood contradicts
+
+
 class BigramConfig(StrictModel):
     """``companion train mood-lm``: the data and counts of the bigram model."""
 
@@ -51,6 +59,7 @@ class MoodStyleConfig(StrictModel):
     gate: GateConfig
     openings: MoodPhrases
     closings: MoodPhrases
+    fallback: FallbackConfig
     bigram: BigramConfig
 
     def resolved_model_dir(self) -> Path:

@@ -10,7 +10,7 @@ through :class:`dialogue.style.mood.MoodStyler`; per mood the result holds
 * ``perplexity_ratio``: bigram corpus perplexity of the outputs over that of the unstyled
   lines (bar <= 1.2), with the median of the per-line ratios;
 * ``content_kept``: mean share of each line's content words the output keeps (bar >= 70 %);
-* ``share``: where the outputs came from (model, fallback, unchanged).
+* ``share``: where the outputs came from (model, fallback, kept, unchanged).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import statistics
 from typing import Any
 
 from dialogue.style.config import load_style_config
-from dialogue.style.mood import MoodReply, MoodStyler, content_kept
+from dialogue.style.mood import SOURCES, MoodReply, MoodStyler, content_kept
 from dialogue.style.ngram import BigramLM
 from dialogue.style.text import STYLES, tokenize
 from dialogue.style.training.conversation import heldout_lines, training_lines
@@ -55,7 +55,7 @@ def mood_figures(styler: MoodStyler, lines: list[str], replies: list[MoodReply],
         "changed": _changed(replies),
         "raw_model": _raw(styler, lines, replies, mood),
         "share": {s: sum(r.source == s for r in replies) / len(replies)
-                  for s in ("model", "fallback", "unchanged")},
+                  for s in SOURCES},
         "refusals": _refusal_kinds(replies),
     }
 
@@ -94,7 +94,7 @@ def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
              "content": "content words", "word pair": "never seen", "perplexity": "perplexity"}
     counts = dict.fromkeys([*kinds, "not decoded"], 0)
     for r in replies:
-        if r.source != "fallback":
+        if r.source not in ("fallback", "kept"):
             continue
         kind = next((k for k, w in kinds.items() if w in (r.reason or "")), "not decoded")
         counts[kind] += 1
