@@ -188,6 +188,10 @@ def test_music_songs_are_the_dance_routines() -> None:
                     "Can you sing 'You Are My Sunshine' for us?"):
         a = answer_music(unknown)
         assert a.action is None and not a.found and "Happy Birthday" in a.text
+    assert "don't know Yesterday yet" in answer_music("play a song called Yesterday").text
+    # a misheard request is not echoed as a title: "music" names no song, so a known one
+    misheard = answer_music("could you play music what is was lighthouse my favorite drink")
+    assert misheard.action.name == "sing_dance" and "Lighthouse" not in misheard.text
     own = {"Lullaby": ("lullaby", "sleep song")}
     assert answer_music("sing me the sleep song", own).action.params["song"] == "Lullaby"
 

@@ -32,6 +32,9 @@ melody lullaby play sing""")
 QUOTED = re.compile(r"(?:^|(?<=\s))[\"'\u2018\u201c]([^\"\u2019\u201d]{2,60}?)"
                     r"[\"'\u2019\u201d](?=[\s?.!,;:]|$)")
 ASK = re.compile(r"\b(?:play|sing|put on|hum)\s+(.+)$")
+KINDS = word_set("music song songs tune tunes something anything melody")   # not titles
+NAMING = word_set("called named titled")
+MAX_TITLE_WORDS = 6   # longer unquoted "titles" are the rest of the sentence, or misheard
 
 
 def _known(t: str, songs: Songs) -> str | None:
@@ -49,7 +52,13 @@ def _asked_title(text: str) -> str | None:
     if not m:
         return None
     words = re.split(r"\b(?:for|with|to|please|because|so)\b", m.group(1))[0].split()
-    return " ".join(words) if any(w not in GENERIC for w in words) else None
+    lead = next((i for i, w in enumerate(words) if w not in GENERIC), len(words))
+    title = words[lead:]
+    if title and title[0] in NAMING:         # "a song called Yesterday"
+        title = title[1:]
+    elif any(w in KINDS for w in words[:lead]):   # "play music what is ...": no title said
+        return None
+    return " ".join(title) if 0 < len(title) <= MAX_TITLE_WORDS else None
 
 
 def answer_music(text: str, songs: Songs | None = None) -> Answer:
