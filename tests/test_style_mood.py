@@ -150,6 +150,7 @@ def test_no_mood_phrase_contradicts_the_reply(lm, judge, transfer, tmp_path):
     strict = "gate: {min_content_kept: 1.0, max_perplexity_ratio: 0.01}\n"
     gate = styler(lm, judge, transfer, tmp_path, strict)
     for text, mood in (("I'm sorry that you aren't happy.", "positive"),
+                       ("I apologize, but the cable has been down lately.", "positive"),
                        ("Great, thank you.", "negative")):
         said = gate.style(text, mood)
         assert (said.source, said.text) == ("kept", text), said

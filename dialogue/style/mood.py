@@ -19,8 +19,10 @@ and it has as many numbers as the reply (put back as the reply wrote them).
 Otherwise the robot says the unstyled reply after an opening of the mood ("Sadly, ..."),
 and with a closing of the mood too when no opening alone convinces the judge (both lists
 in ``app/defaults/mood_style.yaml``), except where such a phrase would contradict the
-reply: a question, or a reply with a word of ``fallback.contrary`` (an apology in a cheerful
-mood, thanks in a gloomy one) is said as it is (``kept``). A reply the judge already puts
+reply: a reply with a word of ``fallback.contrary`` (an apology in a cheerful mood, thanks
+in a gloomy one), or a question unless ``fallback.questions``, is said as it is (``kept``),
+and not offered to the model either, whose rewrite would turn its meaning round ("I
+apologize, but..." became "I love, but..."). A reply the judge already puts
 on the mood's side is said unchanged. Each result says where its text came from (:data:`SOURCES`).
 """
 
@@ -164,6 +166,8 @@ class MoodStyler:
         judged = self.side(source) if source else mood
         if judged == mood or not any(_HAS_LETTER.search(w) for w in source):
             return MoodReply(text, "unchanged", "", None, judged, 1.0, 1.0)
+        if clash := self.contradicted(source, mood):   # the model would flip its meaning
+            return MoodReply(text, "kept", "", clash, judged, 1.0, 1.0)
         result = self.transfer.translate_detailed([text], mood)[0]
         words = result.transferred.split()
         candidate = capital_i(readable(with_numbers(words, numbers(text)), text)) if words else ""
@@ -171,8 +175,6 @@ class MoodStyler:
         if why is None:
             return MoodReply(candidate, "model", candidate, None, mood,
                              content_kept(source, words), self.ratio(source, words))
-        if clash := self.contradicted(source, mood):
-            return MoodReply(text, "kept", candidate, f"{why}; and {clash}", judged, 1.0, 1.0)
         said = self.fallback(text, mood)
         said_words = tokenize(said)
         return MoodReply(said, "fallback", candidate, why, self.side(said_words),

@@ -94,7 +94,7 @@ def _refusal_kinds(replies: list[MoodReply]) -> dict[str, int]:
              "content": "content words", "word pair": "never seen", "perplexity": "perplexity"}
     counts = dict.fromkeys([*kinds, "not decoded"], 0)
     for r in replies:
-        if r.source not in ("fallback", "kept"):
+        if r.source != "fallback":
             continue
         kind = next((k for k, w in kinds.items() if w in (r.reason or "")), "not decoded")
         counts[kind] += 1
