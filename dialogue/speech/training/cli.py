@@ -29,7 +29,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                         "the adapted acoustic model in acoustic/ and enhancer.pt")
     p.add_argument("--only", choices=("language", "acoustic", "enhancer"), default=None,
                    help="make only the language model (seconds), the acoustic model "
-                        "(minutes) or the voice enhancer (about an hour)")
+                        "(minutes) or the voice enhancer (about two hours)")
     p.set_defaults(func=run_train)
 
 
