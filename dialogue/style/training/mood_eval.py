@@ -63,7 +63,7 @@ def mood_figures(styler: MoodStyler, lines: list[str], replies: list[MoodReply],
 def _changed(replies: list[MoodReply]) -> dict[str, float]:
     """Median perplexity ratio and mean content kept of the outputs that differ from the
     unstyled line (the model's and the fallback's), so unchanged lines do not flatter them."""
-    changed = [r for r in replies if r.source != "unchanged"]
+    changed = [r for r in replies if r.source in ("model", "fallback")]
     if not changed:
         return {"lines": 0}
     return {"lines": len(changed),
