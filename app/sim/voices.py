@@ -30,6 +30,7 @@ SYNCHRONOUS = 2          # espeak_AUDIO_OUTPUT: samples handed to the callback a
 POSITION_CHARACTER = 1   # espeak_POSITION_TYPE
 CHARS_UTF8 = 1           # espeak_Synth flags
 RATE, PITCH = 1, 3       # espeak_PARAMETER
+SEED = 1                 # of espeak-ng's noise (breathy voices), set before each line
 _CALLBACK = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(ctypes.c_short), ctypes.c_int,
                              ctypes.c_void_p)
 
@@ -104,6 +105,7 @@ class _Engine:
             self.lib.espeak_SetParameter(PITCH, voice.pitch, 0)
             data = text.encode()
             self.chunks = []
+            self.lib.espeak_ng_SetRandSeed(ctypes.c_long(SEED))
             if self.lib.espeak_Synth(data, len(data) + 1, 0, POSITION_CHARACTER, 0, CHARS_UTF8,
                                      None, None) != 0:
                 raise VoiceError(f"espeak-ng could not say {text[:60]!r}")
