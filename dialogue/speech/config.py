@@ -29,6 +29,7 @@ class SpeechModelConfig(StrictModel):
     dictionary: Path
     acoustic_model: Path | None   # None: the wheel's own en-US model, as it ships
     enhancer: Path | None         # None: the recordings are decoded as they are
+    mask_power: float = Field(ge=1, le=16)
     language_weight: float = Field(gt=0, le=50)
 
     def path(self, name: Path) -> Path:

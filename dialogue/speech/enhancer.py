@@ -62,11 +62,13 @@ class MaskNet(nn.Module):
 
 
 class VoiceEnhancer:
-    """The trained :class:`MaskNet` applied to whole sounds (``enhance``)."""
+    """The trained :class:`MaskNet` applied to whole sounds (``enhance``), its mask raised
+    to ``power`` first: above 1, a cell the net is unsure of is taken down further."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, power: float = 1.0) -> None:
         state = read_weights(path, SpeechModelError, "companion train asr --only enhancer "
                                                      "makes it")
+        self.power = power
         hp = state["hyperparameters"]
         self.net = MaskNet(int(hp["hidden"]), int(hp["layers"]))
         self.net.load_state_dict(fp32_state(state["state_dict"]))
@@ -81,7 +83,7 @@ class VoiceEnhancer:
             return np.asarray(samples, dtype=np.float64)
         with torch_threads(1):   # one thread beside the simulation, as the other models
             spec = spectrum(x)
-            mask = self.net(log_power(spec)[None])[0].T.clamp_min(self.floor)
+            mask = self.net(log_power(spec)[None])[0].T.pow(self.power).clamp_min(self.floor)
             y = torch.istft(spec * mask, N_FFT, HOP, window=torch.hann_window(N_FFT),
                             length=len(x))
         return y.double().numpy()

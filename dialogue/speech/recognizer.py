@@ -89,7 +89,7 @@ class SpeechRecognizer:
         if m.enhancer is not None:
             from dialogue.speech.enhancer import VoiceEnhancer
 
-            self.enhancer = VoiceEnhancer(m.path(m.enhancer))
+            self.enhancer = VoiceEnhancer(m.path(m.enhancer), m.mask_power)
 
     def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
         """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR
