@@ -4,6 +4,7 @@ adaptation run with SphinxTrain's real tools, and the recogniser loading its res
 from __future__ import annotations
 
 import subprocess
+import wave
 from pathlib import Path
 
 import numpy as np
@@ -11,9 +12,16 @@ import pytest
 from pocketsphinx import get_model_path
 from test_speech_recognition import recorded
 
+from app.sim.acoustics import RATE
+from app.sim.robot import load_robot_config
 from dialogue.speech.config import SpeechConfig, load_speech_config
 from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
-from dialogue.speech.training.acoustic import adapt_acoustic_model, adaptation_lines
+from dialogue.speech.training.acoustic import (
+    adapt_acoustic_model,
+    adaptation_enhancer,
+    adaptation_lines,
+    record,
+)
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.words import spoken_words
 
@@ -85,3 +93,29 @@ def test_a_missing_acoustic_model_file_is_a_clear_error(adapted, tmp_path):
     cfg = with_acoustic_model(tmp_path)
     with pytest.raises(SpeechModelError, match="noisedict"):
         SpeechRecognizer(cfg)
+
+
+def test_the_adaptations_recordings_pass_through_the_recognisers_enhancer(tmp_path):
+    cfg = load_speech_config()
+    on = cfg.model_copy(update={"adapt": cfg.adapt.model_copy(update={"enhanced": True})})
+    enhancer = adaptation_enhancer(on)
+    assert enhancer is not None and enhancer.power == cfg.model.mask_power
+    off = cfg.model_copy(update={"adapt": cfg.adapt.model_copy(update={"enhanced": False})})
+    assert adaptation_enhancer(off) is None
+    adapt = cfg.adapt.model_copy(update={"copies": 1, "tv_share": 1.0})
+    lines = [["what", "time", "is", "it"]]
+    for folder, through in (("raw", None), ("enhanced", enhancer)):
+        (tmp_path / folder).mkdir()
+        record(lines, adapt, tmp_path / folder, through)
+    raw, enhanced = (_samples(tmp_path / folder / "c0_00000.wav") for folder in ("raw", "enhanced"))
+    lead = int(load_robot_config().acoustics.lead_s * RATE)   # the TV alone, before the line
+    assert _db(enhanced[:lead]) < _db(raw[:lead]) - 10.0
+
+
+def _samples(path: Path) -> np.ndarray:
+    with wave.open(str(path)) as w:
+        return np.frombuffer(w.readframes(w.getnframes()), dtype="<i2").astype(np.float64)
+
+
+def _db(x: np.ndarray) -> float:
+    return 10.0 * float(np.log10(np.mean(x ** 2) + 1e-9))

@@ -104,6 +104,7 @@ class SpeechAdaptConfig(StrictModel):
     room_width_m: tuple[float, float]
     room_depth_m: tuple[float, float]
     tv_share: float = Field(ge=0, le=1)
+    enhanced: bool
     iterations: int = Field(ge=1, le=5)
     seed: int = Field(ge=0)
     sphinxtrain_dir: Path

@@ -36,7 +36,8 @@ from app.core.errors import UserError
 from app.sim.acoustics import RATE
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
-from dialogue.speech.config import SpeechAdaptConfig
+from dialogue.speech.config import SpeechAdaptConfig, SpeechConfig
+from dialogue.speech.enhancer import VoiceEnhancer
 from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
 from dialogue.speech.training.rooms import living_room, speaker_within
@@ -87,11 +88,21 @@ def adaptation_lines(excluded: set[tuple[str, ...]], dictionary: set[str]) -> li
     return lines
 
 
+def adaptation_enhancer(cfg: SpeechConfig) -> VoiceEnhancer | None:
+    """The enhancer the acoustic model's recordings pass through: the recogniser's, at its
+    mask power, when ``adapt.enhanced`` asks for it and the recogniser has one."""
+    m = cfg.model
+    if not cfg.adapt.enhanced or m.enhancer is None:
+        return None
+    return VoiceEnhancer(m.path(m.enhancer), m.mask_power)
+
+
 def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
-           ) -> tuple[list[str], list[str]]:
+           enhancer: VoiceEnhancer | None = None) -> tuple[list[str], list[str]]:
     """Say every line ``copies`` times, each time in a drawn voice, room, distance and
-    noise, and write the microphones' recordings as 16 kHz WAV files in ``folder``; the
-    file ids and their SphinxTrain transcription lines."""
+    noise, and write the microphones' recordings (through ``enhancer`` when given) as
+    16 kHz WAV files in ``folder``; the file ids and their SphinxTrain transcription
+    lines."""
     rng = np.random.default_rng(cfg.seed)
     loops = noise_loops(cfg.seed)
     ids, transcripts = [], []
@@ -104,6 +115,8 @@ def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
             speaker = speaker_within(robot, depth, cfg.distance_m, rng)
             samples, rate = synthesise(" ".join(words), voice)
             audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
+            if enhancer is not None:
+                audio = enhancer.enhance(audio)
             fid = f"c{copy}_{k:05d}"
             with wave.open(str(folder / f"{fid}.wav"), "wb") as out:
                 out.setnchannels(1)
@@ -164,10 +177,12 @@ def _iteration(cfg: SpeechAdaptConfig, base: Path, prior: Path, out: Path, work:
 
 
 def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
-                         out_dir: Path, progress: Callable[[str], None] | None = None,
+                         out_dir: Path, enhancer: VoiceEnhancer | None = None,
+                         progress: Callable[[str], None] | None = None,
                          ) -> dict[str, object]:
-    """Adapt the wheel's en-US model and write what the recogniser loads to ``out_dir``
-    (with ``adaptation.json``, the figures for the model card)."""
+    """Adapt the wheel's en-US model to recordings (passed through ``enhancer`` when
+    given, as the recogniser will pass what it hears) and write what the recogniser loads
+    to ``out_dir`` (with ``adaptation.json``, the figures for the model card)."""
     say = progress or (lambda _: None)
     source = wheel_model_dir() / "en-us"
     dictionary = wheel_model_dir() / "cmudict-en-us.dict"
@@ -178,7 +193,7 @@ def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
         for folder in ("wav", "mfc", "base"):
             (work / folder).mkdir()
         _base_model(cfg, source, work / "base", log)
-        ids, transcripts = record(lines, cfg, work / "wav")
+        ids, transcripts = record(lines, cfg, work / "wav", enhancer)
         (work / "adapt.transcription").write_text("\n".join(transcripts) + "\n")
         say(f"{len(ids)} recordings of {len(lines)} lines")
         _features(cfg, source, work, ids, log)

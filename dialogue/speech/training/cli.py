@@ -53,7 +53,11 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
 def run_train(args: argparse.Namespace) -> int:
     """``companion train asr``."""
     from dialogue.speech.config import load_speech_config
-    from dialogue.speech.training.acoustic import adapt_acoustic_model, adaptation_lines
+    from dialogue.speech.training.acoustic import (
+        adapt_acoustic_model,
+        adaptation_enhancer,
+        adaptation_lines,
+    )
     from dialogue.speech.training.enhancer import train_enhancer
     from dialogue.speech.training.train import (
         evaluation_words,
@@ -70,7 +74,8 @@ def run_train(args: argparse.Namespace) -> int:
         figures["enhancer"] = train_enhancer(cfg.enhance, lines, args.out, progress=print)
     if args.only in (None, "acoustic"):
         figures["acoustic_model"] = adapt_acoustic_model(
-            cfg.adapt, evaluation_words(), args.out / "acoustic", progress=print)
+            cfg.adapt, evaluation_words(), args.out / "acoustic", adaptation_enhancer(cfg),
+            progress=print)
     print(json.dumps(figures, indent=2))
     return 0
 
