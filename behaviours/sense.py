@@ -33,7 +33,7 @@ import numpy as np
 from py_trees.common import Status
 
 from app.sim.hearing import HeardLine, Sound
-from app.sim.world import FeedbackEvent
+from app.sim.world_types import FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange

@@ -45,7 +45,8 @@ from app.sim.layout import Placement
 from app.sim.scenario import Scenario, Start, load_scenario
 from app.sim.simulation import Simulation
 from app.sim.speech import speech_seconds
-from app.sim.world import Footprint, World
+from app.sim.world import World
+from app.sim.world_types import Footprint
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
 from behaviours.harness import skill_tree

@@ -12,7 +12,7 @@ import pytest
 
 from app.sim.acoustics import RATE, Acoustics, Wall
 from app.sim.layout import Room
-from app.sim.robot import load_robot_config
+from app.sim.robot_config import load_robot_config
 from app.sim.scenario import load_scenario
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise

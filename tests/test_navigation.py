@@ -21,7 +21,8 @@ from app.sim.navigation import (
 )
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
-from app.sim.world import Footprint, Pose2D, World
+from app.sim.world import World
+from app.sim.world_types import Footprint, Pose2D
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
 from behaviours.harness import run_skill

@@ -13,7 +13,7 @@ from pocketsphinx import get_model_path
 from test_speech_recognition import recorded
 
 from app.sim.acoustics import RATE
-from app.sim.robot import load_robot_config
+from app.sim.robot_config import load_robot_config
 from dialogue.speech.config import SpeechConfig, load_speech_config
 from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
 from dialogue.speech.training.acoustic import (

@@ -13,7 +13,7 @@ import pytest
 from app.cli import main
 from app.sim.acoustics import RATE, Acoustics
 from app.sim.layout import Room
-from app.sim.robot import load_robot_config
+from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.addressee import AddresseeJudge

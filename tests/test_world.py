@@ -10,7 +10,8 @@ import pytest
 
 from app.sim.people import Appearance, create_person
 from app.sim.scenario import load_scenario
-from app.sim.world import EmotionEvent, EncourageEvent, SayEvent, World
+from app.sim.world import World
+from app.sim.world_types import EmotionEvent, EncourageEvent, SayEvent
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 NAMES = ("living_room", "nursing_home", "birthday_party", "low_battery_night")

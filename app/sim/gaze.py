@@ -15,7 +15,8 @@ import math
 from dataclasses import dataclass
 
 from app.sim.scenario import AUDIENCES
-from app.sim.world import SayEvent, World
+from app.sim.world import World
+from app.sim.world_types import SayEvent
 
 LOOK_AFTER_S = 4.0   # s a speaker keeps facing whom they spoke to once the line ends
 

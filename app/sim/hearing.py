@@ -1,7 +1,7 @@
 """The robot's microphones: what a line said in the household becomes for the robot.
 
 Pepper localises a voice with its four-microphone array. Here :class:`Microphones` turns
-each line a person says (:class:`app.sim.world.SayEvent`, or words of encouragement) into a
+each line a person says (:class:`app.sim.world_types.SayEvent`, or words of encouragement) into a
 :class:`Sound`: what the microphones record while it is said (the voice carried through the
 household by :mod:`app.sim.acoustics`, over the background of the robot's room), with the
 bearing of the voice as the array estimates it (the true bearing from the robot's head to

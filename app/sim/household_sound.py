@@ -22,7 +22,8 @@ from app.sim.scenario import Scenario, voice_of
 from app.sim.soundscape import noise_loops
 from app.sim.speech import write_wav
 from app.sim.voices import VoiceError, synthesise
-from app.sim.world import SayEvent, World
+from app.sim.world import World
+from app.sim.world_types import SayEvent
 
 log = logging.getLogger(__name__)
 REPEAT_AFTER_S = 1.0     # a person asked to say a line again starts this long after

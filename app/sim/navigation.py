@@ -28,7 +28,8 @@ from app.sim.lasers import Scan
 from app.sim.obstacle_tracks import TracksConfig
 from app.sim.robot import wrap_angle
 from app.sim.sensed_obstacles import ObstacleMemory
-from app.sim.world import Footprint, Pose2D, World
+from app.sim.world import World
+from app.sim.world_types import Footprint, Pose2D
 
 Point = tuple[float, float]
 Cell = tuple[int, int]

@@ -16,7 +16,8 @@ import math
 import numpy as np
 
 from app.sim.scenario import Scenario
-from app.sim.world import SayEvent, World
+from app.sim.world import World
+from app.sim.world_types import SayEvent
 
 LINES = {   # what people say, one chosen at random each time
     "like": ("Well done, that was lovely!", "Good job, robot.", "I liked that, thank you."),

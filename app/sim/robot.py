@@ -14,164 +14,21 @@ import math
 from collections.abc import Callable, Mapping
 from functools import partial
 from pathlib import Path
-from typing import Any, Self
+from typing import Any
 
 import numpy as np
 import pybullet as p
-from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 
-from app.core.config_files import StrictModel, load_model
 from app.core.paths import URDF_DIR
-from app.sim.acoustics import AcousticsConfig
-from app.sim.hearing import MicrophonesConfig
 from app.sim.joints import JOINT_NAMES
-from app.sim.lasers import LaserScanners, LasersConfig
+from app.sim.lasers import LaserScanners
+from app.sim.power import Battery, MotorHeat
 from app.sim.render import Buffers, tiny_render
-from app.sim.voices import Voice
+from app.sim.robot_config import RobotConfig, load_robot_config
 
 URDF_PATH = URDF_DIR / "pepper.urdf"
 CAMERA_LINK = "CameraTop_frame"
 Pose = tuple[float, float, float]
-
-
-# ---------------------------------------------------------------------------- config
-class BaseConfig(StrictModel):
-    """Base speed limits and the collision check."""
-
-    max_linear_speed: PositiveFloat
-    max_angular_speed: PositiveFloat
-    collision_margin: NonNegativeFloat
-    collision_step: PositiveFloat
-    collision_turn_step: PositiveFloat
-
-
-class JointsConfig(StrictModel):
-    """Joint motors and the reached tolerance."""
-
-    position_tolerance: PositiveFloat
-    position_gain_per_s: PositiveFloat
-    force_scale: PositiveFloat
-
-
-class BatteryConfig(StrictModel):
-    """Battery capacity, consumption and charging."""
-
-    capacity_wh: PositiveFloat
-    initial: float = Field(ge=0.0, le=1.0)
-    idle_power_w: NonNegativeFloat
-    base_power_w_per_mps: NonNegativeFloat
-    turn_power_w_per_radps: NonNegativeFloat
-    joint_power_w_per_radps: NonNegativeFloat
-    charge_power_w: NonNegativeFloat
-
-
-class ThermalConfig(StrictModel):
-    """Motor temperature model and overheat thresholds."""
-
-    ambient_c: float
-    initial_c: float
-    joint_heating_c_per_rad: NonNegativeFloat
-    base_heating_c_per_m: NonNegativeFloat
-    turn_heating_c_per_rad: NonNegativeFloat
-    cooling_tau_s: PositiveFloat
-    rest_cooling_tau_s: PositiveFloat
-    rest_posture: str
-    overheat_c: float
-    overheat_clear_c: float
-
-    @model_validator(mode="after")
-    def _hysteresis(self) -> Self:
-        if not self.ambient_c <= self.overheat_clear_c < self.overheat_c:
-            raise ValueError("need ambient_c <= overheat_clear_c < overheat_c")
-        return self
-
-
-class CameraConfig(StrictModel):
-    """Head camera intrinsics (vertical field of view, clip planes), and the share of each
-    frame's rows a helper process renders when there is one (app/sim/split_render.py)."""
-
-    fov_deg: float = Field(gt=0.0, lt=180.0)
-    near: PositiveFloat
-    far: PositiveFloat
-    helper_share: float = Field(gt=0.0, lt=1.0)
-
-
-class RobotConfig(StrictModel):
-    """Schema of ``app/defaults/robot.yaml``."""
-
-    base: BaseConfig
-    joints: JointsConfig
-    voice: Voice
-    initial_posture: str
-    posture_speed: float = Field(gt=0.0, le=1.0)
-    postures: dict[str, dict[str, float]]
-    battery: BatteryConfig
-    thermal: ThermalConfig
-    camera: CameraConfig
-    microphones: MicrophonesConfig
-    lasers: LasersConfig
-    acoustics: AcousticsConfig
-
-    @model_validator(mode="after")
-    def _postures_known(self) -> Self:
-        for name, angles in self.postures.items():
-            unknown = sorted(set(angles) - set(JOINT_NAMES))
-            if unknown:
-                raise ValueError(f"posture {name!r} names unknown joints {unknown}")
-        for used in (self.initial_posture, self.thermal.rest_posture):
-            if used not in self.postures:
-                raise ValueError(f"posture {used!r} is not defined in `postures`")
-        return self
-
-
-def load_robot_config(path: str | Path | None = None) -> RobotConfig:
-    """The packaged robot.yaml, with the user file at ``path`` merged over it."""
-    return load_model(RobotConfig, "robot.yaml", path)
-
-
-# ---------------------------------------------------------------------------- battery, heat
-class Battery:
-    """State of charge in [0, 1]: idle drain, extra drain with motion, charging."""
-
-    def __init__(self, cfg: BatteryConfig) -> None:
-        self.cfg = cfg
-        self.level = cfg.initial
-        self.charging = False
-
-    def power_w(self, base_speed: float, turn_speed: float, joint_speed: float) -> float:
-        """Net power drawn (W, negative while charging) at these speeds (m/s, rad/s)."""
-        c = self.cfg
-        draw = (c.idle_power_w + c.base_power_w_per_mps * base_speed
-                + c.turn_power_w_per_radps * turn_speed + c.joint_power_w_per_radps * joint_speed)
-        return draw - (c.charge_power_w if self.charging else 0.0)
-
-    def update(self, dt: float, base_speed: float, turn_speed: float, joint_speed: float) -> None:
-        """Drain (or charge) for ``dt`` seconds."""
-        used_wh = self.power_w(base_speed, turn_speed, joint_speed) * dt / 3600.0
-        self.level = min(1.0, max(0.0, self.level - used_wh / self.cfg.capacity_wh))
-
-
-class MotorHeat:
-    """One lumped motor temperature with a hysteretic overheat flag."""
-
-    def __init__(self, cfg: ThermalConfig) -> None:
-        self.cfg = cfg
-        self.temperature = cfg.initial_c
-        self.overheated = cfg.initial_c >= cfg.overheat_c
-
-    def update(self, dt: float, base_speed: float, turn_speed: float, joint_speed: float,
-               resting: bool) -> None:
-        """Heat by the travel of ``dt`` seconds and relax towards ambient (exactly, any dt)."""
-        c = self.cfg
-        heating = (c.joint_heating_c_per_rad * joint_speed + c.base_heating_c_per_m * base_speed
-                   + c.turn_heating_c_per_rad * turn_speed)
-        tau = c.rest_cooling_tau_s if resting else c.cooling_tau_s
-        excess = (self.temperature - c.ambient_c) * math.exp(-dt / tau)
-        self.temperature = c.ambient_c + excess + heating * dt
-        if self.temperature >= c.overheat_c:
-            self.overheated = True
-        elif self.temperature <= c.overheat_clear_c:
-            self.overheated = False
 
 
 # ---------------------------------------------------------------------------- helpers

@@ -13,11 +13,13 @@ from app.sim.gaze import TalkGaze
 from app.sim.hearing import Sound
 from app.sim.household_sound import HouseholdSound
 from app.sim.reactions import Reactions
-from app.sim.robot import Robot, load_robot_config
+from app.sim.robot import Robot
+from app.sim.robot_config import load_robot_config
 from app.sim.scenario import Scenario, load_scenario
 from app.sim.speech import speech_seconds
 from app.sim.split_render import SplitRenderer
-from app.sim.world import EmotionEvent, EncourageEvent, SayEvent, SocialEvent, World
+from app.sim.world import World
+from app.sim.world_types import EmotionEvent, EncourageEvent, SayEvent, SocialEvent
 
 log = logging.getLogger(__name__)
 

@@ -14,9 +14,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from dataclasses import dataclass
 from pathlib import Path
-from typing import NamedTuple
 
 import pybullet as p
 import pybullet_data
@@ -42,6 +40,16 @@ from app.sim.people import (
 )
 from app.sim.scenario import Event, Scenario, load_scenario
 from app.sim.walks import Walk, give_way, short_of
+from app.sim.world_types import (
+    EmotionEvent,
+    EncourageEvent,
+    FeedbackEvent,
+    Footprint,
+    Light,
+    Pose2D,
+    SayEvent,
+    SocialEvent,
+)
 
 WALL_THICKNESS = 0.1
 PARK_X, PARK_Y = -1000.0, -1000.0   # where the bodies of people who left wait (m)
@@ -53,104 +61,6 @@ STOP_SHORT = 0.7  # a person walking up to another stops this far from them, and
 APPROACH_SPEED = 0.7  # m/s, a person asked by the robot to come closer (or to make way)
 MAKE_WAY_M = 1.0  # a standing person this near the robot, asked to make way, steps back to
 MADE_WAY_M = 1.5  # this far from it
-
-
-# --- small value types ----------------------------------------------------------------
-
-
-class Pose2D(NamedTuple):
-    """A position on the floor and a heading in radians (0 = facing +x); unpacks as a tuple."""
-
-    x: float
-    y: float
-    yaw: float
-
-
-@dataclass(frozen=True)
-class Footprint:
-    """An obstacle's rectangle on the floor: centre, heading (rad) and half extents."""
-
-    name: str
-    kind: str  # wall, furniture, object, dock or person
-    x: float
-    y: float
-    yaw: float
-    half_x: float
-    half_y: float
-
-    def corners(self) -> list[tuple[float, float]]:
-        """The four corners, counter-clockwise."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        return [(self.x + c * dx - s * dy, self.y + s * dx + c * dy)
-                for dx, dy in ((self.half_x, self.half_y), (-self.half_x, self.half_y),
-                               (-self.half_x, -self.half_y), (self.half_x, -self.half_y))]
-
-    def contains(self, x: float, y: float, margin: float = 0.0) -> bool:
-        """Whether ``(x, y)`` is inside the rectangle grown by ``margin``."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        dx, dy = x - self.x, y - self.y
-        return (abs(c * dx + s * dy) <= self.half_x + margin
-                and abs(-s * dx + c * dy) <= self.half_y + margin)
-
-
-@dataclass(frozen=True)
-class Light:
-    """TinyRenderer lighting; pass ``**light.camera_kwargs()`` to ``getCameraImage``."""
-
-    direction: tuple[float, float, float]
-    colour: Rgb
-    ambient: float
-    diffuse: float
-    specular: float
-    shadows: bool
-
-    def camera_kwargs(self) -> dict[str, object]:
-        """Keyword arguments for ``pybullet.getCameraImage``."""
-        return {"lightDirection": list(self.direction), "lightColor": list(self.colour),
-                "lightAmbientCoeff": self.ambient, "lightDiffuseCoeff": self.diffuse,
-                "lightSpecularCoeff": self.specular, "shadow": int(self.shadows)}
-
-
-@dataclass(frozen=True)
-class SayEvent:
-    """A person says ``text`` to ``to``: ``robot``, ``everyone`` or another person's name."""
-
-    t: float
-    person: str
-    text: str
-    to: str = "robot"
-
-
-@dataclass(frozen=True)
-class EncourageEvent:
-    """A person encourages the robot (the thesis' encouragement stimulus) with ``text``."""
-
-    t: float
-    person: str
-    text: str
-
-
-@dataclass(frozen=True)
-class EmotionEvent:
-    """A person shows an emotion: ``happy``, ``sad`` or ``neutral``."""
-
-    t: float
-    person: str
-    emotion: str
-
-
-@dataclass(frozen=True)
-class FeedbackEvent:
-    """A person praises (``value`` +1) or scolds (-1) the robot, optionally naming the
-    action it is ``about``."""
-
-    t: float
-    person: str
-    value: int
-    about: str | None
-
-
-SocialEvent = SayEvent | EncourageEvent | EmotionEvent | FeedbackEvent
 
 
 # --- walls ----------------------------------------------------------------------------------

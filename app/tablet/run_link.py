@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from app.sim.hearing import HeardLine
-from app.sim.world import FeedbackEvent
+from app.sim.world_types import FeedbackEvent
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import MindView, SnapshotSlot

@@ -16,7 +16,7 @@ from py_trees.common import Status
 
 from app.sim.navigation import Navigator, PathFollower, Point
 from app.sim.robot import wrap_angle
-from app.sim.world import Pose2D
+from app.sim.world_types import Pose2D
 from behaviours.context import Context
 from behaviours.obstacle_sensing import ObstacleSensing
 from behaviours.skill import ContextBehaviour, Relieve, Say

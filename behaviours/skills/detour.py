@@ -19,7 +19,7 @@ import numpy as np
 
 from app.sim.navigation import Navigator, OccupancyGrid, Point, Velocity
 from app.sim.robot import wrap_angle
-from app.sim.world import Footprint, Pose2D
+from app.sim.world_types import Footprint, Pose2D
 from behaviours.context import Context
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well

@@ -31,6 +31,7 @@ from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make
 from behaviours.skills.detour import Detour
 from behaviours.skills.person_front import PersonFront
 from behaviours.skills.search import Search, remember
+from behaviours.skills.setbacks import Escape, Ignored
 from perception.detector.yolo import Detection
 
 CUT_PX = 2   # a person box reaching this close to the frame's bottom is cut off there
@@ -60,11 +61,10 @@ class ApproachPerson(BoxSteering):
         self._start = self._seen = 0.0           # s: started, person last seen
         self._close_since = self._near_since = 0.0   # s: came close / near (target distance)
         self._faces = 0                          # frames of the followed person with a face
-        self._side, self._escape_start = 1.0, -math.inf   # sidestep to the left first
+        self.escape = Escape(self.cfg)           # backing up and stepping aside
         self._turn, self._reversed = 1.0, -math.inf   # search turn: counter-clockwise first
         # floor spot of a person given up on -> ignored until (s)
-        self._ignored: dict[tuple[float, float], float] = {}
-        self._vanished: dict[float, int] = {}    # world heading (rad) -> near box lost, times
+        self.ignored = Ignored(self.cfg)
         self._spot: tuple[float, float] | None = None   # where the followed person stands
         self._detours = 0                        # detours taken for the followed person
         self.front: PersonFront | None = None   # which way they face (set in setup())
@@ -82,9 +82,10 @@ class ApproachPerson(BoxSteering):
         self._start = self.now
         self._seen = self._close_since = self._near_since = -math.inf
         self._faces = 0
-        self._side, self._escape_start = 1.0, -math.inf
+        self.escape.reset()
         self._turn, self._reversed = 1.0, -math.inf
-        self._ignored, self._vanished, self._spot = {}, {}, None
+        self.ignored.clear()
+        self._spot = None
         self.detour.cancel()
         self.search.turned, self._walking = 0.0, None
         self._detours = 0
@@ -98,12 +99,11 @@ class ApproachPerson(BoxSteering):
         if fresh is None:
             return Status.RUNNING
         detections, dt = fresh
-        self._ignored = {s: t for s, t in self._ignored.items() if t > self.now}
+        self.ignored.expire(self.now)
         if self.detour.active and self._walking is None:
             return self._drive_detour()
         x, y, _ = self.ctx.robot.pose()
-        person = self.follow(detections, tuple(math.atan2(sy - y, sx - x)
-                                               for sx, sy in self._ignored))
+        person = self.follow(detections, self.ignored.headings_from(x, y))
         if person is None or self.hits < self.cfg.confirm_frames:
             if self.detour.active:
                 return self._drive_detour()
@@ -111,7 +111,7 @@ class ApproachPerson(BoxSteering):
             return Status.RUNNING
         spot = self.locate(person)
         if spot is not None and self._implausible(person, detections, spot):
-            self._ignored[spot] = self.now + self.cfg.ignore_s
+            self.ignored.add(spot, self.now)
             self.forget()
             return self._drive_detour() if self.detour.active else Status.RUNNING
         if self._walking is not None:   # someone in view on the way: approach them
@@ -149,7 +149,7 @@ class ApproachPerson(BoxSteering):
         vx, vy, wz = self.ctx.robot.base_velocity
         if self.ctx.robot.blocked and vx == vy == 0.0 and wz * self._turn > 0:
             if self.now - self._reversed < math.tau / self.cfg.search_turn_speed:
-                self._escape_start = self.now
+                self.escape.begin(self.now)
             self._turn, self._reversed = -self._turn, self.now
         if self.search.turn(wz, dt) and self._walk_on():
             return
@@ -185,7 +185,7 @@ class ApproachPerson(BoxSteering):
         if room is not None:
             self.bb.rooms_searched = {**self.bb.rooms_searched, room: self.now}
         choice = self.search.go_on((x, y), self.now, self.bb.people_seen,
-                                   self.bb.rooms_searched, list(self._ignored))
+                                   self.bb.rooms_searched, self.ignored.spots())
         if choice is None:
             return False
         self._walking, goal = choice
@@ -320,12 +320,8 @@ class ApproachPerson(BoxSteering):
         """The near box of the followed track vanished before its face was confirmed; after
         ``vanish_strikes`` times in one direction, ignore that direction (a person close
         by stays in view; a false positive on furniture flickers)."""
-        width = math.radians(self.cfg.ignore_width_deg)
-        key = next((h for h in self._vanished
-                    if abs(math.remainder(h - self._track, math.tau)) <= width), self._track)
-        count = self._vanished.pop(key, 0) + 1
-        if count < self.cfg.vanish_strikes:
-            self._vanished[self._track] = count
+        count = self.ignored.vanished_at(self._track)
+        if count is None:
             return
         self._ignore(self._track)
         self.emit("no_face", bearing_deg=round(math.degrees(math.remainder(
@@ -343,7 +339,7 @@ class ApproachPerson(BoxSteering):
         ``heading``) for ``ignore_s``."""
         x, y, _ = self.ctx.robot.pose()
         spot = self._spot or (x + math.cos(heading), y + math.sin(heading))
-        self._ignored[spot] = self.now + self.cfg.ignore_s
+        self.ignored.add(spot, self.now)
         self._spot = None
 
     def _give_up(self, person: Detection) -> None:
@@ -358,22 +354,8 @@ class ApproachPerson(BoxSteering):
         self.command(0.0, 0.0, 0.0)
 
     def _avoid(self, vx: float, wz: float) -> tuple[float, float, float]:
-        """The (vx, vy, wz) command: the controllers' own, or an escape after the base
-        reported being blocked while driving forwards: back up for ``escape_back_s``, then
-        step sideways for ``escape_side_s``. A blocked sidestep starts a new escape to the
-        other side; the side that got through is kept for the next escape."""
-        cfg, blocked = self.cfg, self.ctx.robot.blocked
-        sidestep_from = self._escape_start + cfg.escape_back_s
-        if self.now >= sidestep_from + cfg.escape_side_s:
-            if not (blocked and vx > 0):
-                return vx, 0.0, wz
-            self._escape_start = self.now
-        elif blocked and self.now > sidestep_from:
-            self._side = -self._side
-            self._escape_start = self.now
-        if self.now < self._escape_start + cfg.escape_back_s:
-            return -cfg.escape_speed, 0.0, 0.0
-        return 0.0, self._side * cfg.escape_speed, 0.0
+        """The (vx, vy, wz) command: the controllers' own, or the :class:`Escape` under way."""
+        return self.escape.command(self.now, self.ctx.robot.blocked, vx, wz)
 
 
 class KeepCentred(BoxSteering):

@@ -24,7 +24,8 @@ from app.core.checkpoint import atomic_write_bytes
 from app.sim.furnishings import furniture_parts
 from app.sim.people import POSES, Appearance, Part, Person, PoseName, build_body
 from app.sim.robot import Robot, decode_segmentation
-from app.sim.world import WALL_THICKNESS, Light
+from app.sim.world import WALL_THICKNESS
+from app.sim.world_types import Light
 from perception.detector.config import DataConfig
 
 Rgb = tuple[float, float, float]

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from app.sim.people import Appearance
-from app.sim.world import Light
+from app.sim.world_types import Light
 from perception.detector.training.data import FURNITURE_SIZES, SKINS, SceneSpec
 from perception.vqg.scene import (
     ACTIVITY_MIX,
