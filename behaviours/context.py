@@ -20,7 +20,7 @@ from app.mind.homeostasis import Homeostasis
 from app.mind.personality import load_personality
 from app.mind.preferences.config import AdaptationConfig, load_feedback_config
 from app.mind.preferences.memory import Memory
-from app.sim.navigation import PathFollower
+from app.sim.path_follower import PathFollower
 from app.sim.robot import Robot
 from app.sim.speech import Speaker
 from app.sim.world import World

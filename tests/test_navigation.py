@@ -15,10 +15,10 @@ from app.mind.personality import ACTIONS
 from app.sim.navigation import (
     Navigator,
     OccupancyGrid,
-    PathFollower,
     Planner,
     footprint_distance,
 )
+from app.sim.path_follower import PathFollower
 from app.sim.scenario import load_scenario
 from app.sim.simulation import Simulation
 from app.sim.world import World

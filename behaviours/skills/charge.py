@@ -14,7 +14,8 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from app.sim.navigation import Navigator, PathFollower, Point
+from app.sim.navigation import Navigator, Point
+from app.sim.path_follower import PathFollower
 from app.sim.robot import wrap_angle
 from app.sim.world_types import Pose2D
 from behaviours.context import Context

@@ -17,7 +17,8 @@ import math
 
 import numpy as np
 
-from app.sim.navigation import Navigator, OccupancyGrid, Point, Velocity
+from app.sim.navigation import Navigator, OccupancyGrid, Point
+from app.sim.path_follower import Velocity
 from app.sim.robot import wrap_angle
 from app.sim.world_types import Footprint, Pose2D
 from behaviours.context import Context
