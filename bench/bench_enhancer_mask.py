@@ -10,11 +10,14 @@ where it sends the text; the shipped power is the one of least mean word error r
 the three conditions. A power above 1 takes a cell the net is unsure of down further: the
 TV's voice, which the mask leaves partly in, is taken further out.
 
-With ``--unseen-voices`` the questions are said by the four visitors' voices of ``companion
-eval asr --unseen-voices`` instead, quiet and with the TV on at 1 m.
+With ``--lines requests`` the lines are the 90 spoken requests of
+``dialogue/data/speech_dev.tsv`` instead, written like what people ask the robot (time,
+weather, songs, chit-chat) and, like the questions, learnt by no model and never said by
+``companion eval asr``. With ``--unseen-voices`` the lines are said by the four visitors'
+voices of ``companion eval asr --unseen-voices`` instead, quiet and with the TV on at 1 m.
 
 Usage: python bench/bench_enhancer_mask.py [--limit N] [--powers P ...] [--config SPEECH_YAML]
-       [--unseen-voices] [--json PATH]
+       [--lines questions|requests] [--unseen-voices] [--json PATH]
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
-from dialogue.speech.training.corpus import knowledge_questions
+from dialogue.speech.training.corpus import DEV_FILE, knowledge_questions, tsv_lines
 from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES
 from dialogue.speech.training.rooms import living_room, speaker_at
 from dialogue.speech.words import spoken_words
@@ -44,17 +47,23 @@ VISITOR_CONDITIONS = (("quiet", 1.0), ("tv", 1.0))
 def main() -> None:
     """Print a row per power."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--limit", type=int, default=60, help="the first N questions")
+    ap.add_argument("--limit", type=int, default=None,
+                    help="the first N lines (default: 60 questions, all requests)")
     ap.add_argument("--powers", type=float, nargs="+",
                     default=[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 12.0])
     ap.add_argument("--config", type=Path, help="speech YAML choosing the models")
     ap.add_argument("--json", type=Path, help="also write the rows here")
+    ap.add_argument("--lines", choices=("questions", "requests"), default="questions",
+                    help="the held-out knowledge questions, or the spoken requests written "
+                         "for choosing settings (dialogue/data/speech_dev.tsv)")
     ap.add_argument("--unseen-voices", action="store_true",
                     help="say the questions in the four visitors' voices of eval asr "
                          "--unseen-voices, quiet and with the TV at 1 m (what the power "
                          "costs a voice the enhancer never learnt)")
     args = ap.parse_args()
-    texts = knowledge_questions()[:args.limit]
+    texts = (knowledge_questions() if args.lines == "questions"
+             else [text for _, text in tsv_lines(DEV_FILE)])
+    texts = texts[:args.limit or (60 if args.lines == "questions" else len(texts))]
     refs = [" ".join(spoken_words(t)) for t in texts]
     router, recogniser = IntentClassifier.default(), SpeechRecognizer(
         load_speech_config(args.config))

@@ -22,7 +22,9 @@ from dialogue.speech.training.acoustic import (
     adaptation_lines,
     record,
 )
+from dialogue.speech.training.corpus import DEV_FILE, HELD_OUT_FILES, tsv_lines
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
+from dialogue.speech.training.train import evaluation_words
 from dialogue.speech.words import spoken_words
 
 WHEEL = Path(get_model_path()) / "en-us" / "en-us"
@@ -119,3 +121,14 @@ def _samples(path: Path) -> np.ndarray:
 
 def _db(x: np.ndarray) -> float:
     return 10.0 * float(np.log10(np.mean(x ** 2) + 1e-9))
+
+
+def test_the_requests_settings_are_chosen_on_are_learnt_by_no_model_nor_evaluated():
+    requests = {tuple(spoken_words(text)) for _, text in tsv_lines(DEV_FILE)}
+    assert len(requests) == 90
+    assert requests <= evaluation_words()   # left out of the language model's corpus
+    training = {tuple(words) for words in adaptation_lines(set(), _dictionary())}
+    assert not requests & training          # nor said to the acoustic model or the enhancer
+    held_out = {tuple(spoken_words(text)) for name in HELD_OUT_FILES
+                for _, text in tsv_lines(name)}
+    assert not requests & held_out          # nor among eval asr's lines

@@ -38,6 +38,7 @@ DATA = REPO_ROOT / "dialogue" / "data"
 TRAIN_FILES = ("intent_train.tsv", "feedback_train.tsv")
 HELD_OUT_FILES = ("intent_heldout.tsv", "feedback_heldout.tsv")
 KNOWLEDGE_QUESTIONS = "knowledge_questions.tsv"   # kind, question, keywords
+DEV_FILE = "speech_dev.tsv"   # spoken requests for choosing settings (label, utterance)
 
 
 def tsv_lines(name: str) -> list[tuple[str, str]]:

@@ -15,6 +15,7 @@ from app.core.paths import WORLDS_DIR
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import wheel_model_dir
 from dialogue.speech.training.corpus import (
+    DEV_FILE,
     HELD_OUT_FILES,
     build_corpus,
     knowledge_questions,
@@ -39,9 +40,10 @@ def full_dictionary() -> dict[str, list[str]]:
 
 def evaluation_lines() -> list[str]:
     """Lines the robot is evaluated on, which the model must not learn: the recogniser's
-    held-out lines, the held-out knowledge questions (bench/bench_asr_threshold.py says
-    them) and every line people say in the shipped household scenarios."""
-    lines = [text for name in HELD_OUT_FILES for _, text in tsv_lines(name)]
+    held-out lines, the requests settings are chosen on (``speech_dev.tsv``), the held-out
+    knowledge questions (bench/bench_asr_threshold.py says them) and every line people say
+    in the shipped household scenarios."""
+    lines = [text for name in (*HELD_OUT_FILES, DEV_FILE) for _, text in tsv_lines(name)]
     lines += knowledge_questions()
     for world in sorted(WORLDS_DIR.glob("*.yaml")):
         scenario = yaml.safe_load(world.read_text(encoding="utf-8")) or {}
