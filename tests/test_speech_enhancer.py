@@ -15,7 +15,7 @@ from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.enhancer import VoiceEnhancer
-from dialogue.speech.recognizer import SpeechModelError, SpeechRecognizer
+from dialogue.speech.recognizer import SpeechModelError, SpeechRecognizer, noise_floor
 from dialogue.speech.training.enhancer import train_enhancer
 from dialogue.speech.training.rooms import living_room
 from dialogue.speech.words import spoken_words
@@ -102,6 +102,22 @@ def test_the_sharper_mask_takes_more_of_the_tv_out_than_the_net_s_own():
     assert power > 1
     left = {p: VoiceEnhancer(SHIPPED, p).enhance(voice + tv) - voice for p in (1.0, power)}
     assert snr_db(voice, left[power]) > snr_db(voice, left[1.0]) + 0.5   # +1.7 dB measured
+
+
+def test_the_sharper_mask_is_kept_for_a_loud_room_and_a_quiet_room_gets_the_nets_own():
+    """With ``loud_room_db`` set, the recording's own noise floor chooses (quiet about 33 dB,
+    the TV on about 45 dB; docs/speech.md); unset, as shipped, the power is used everywhere."""
+    shipped = SpeechRecognizer()
+    cfg = shipped.cfg.model_copy(update={"model": shipped.cfg.model.model_copy(
+        update={"loud_room_db": 38.0})})
+    recogniser = SpeechRecognizer(cfg)
+    text = "Could you tell me what the weather is like tomorrow?"
+    quiet, loud = (sum(parts(text, 3.0, noise)) for noise in ("quiet", "tv"))
+    assert noise_floor(quiet) < 38.0 < noise_floor(loud)
+    assert recogniser.mask_power(quiet) == 1.0
+    assert recogniser.mask_power(loud) == cfg.model.mask_power > 1
+    assert shipped.cfg.model.loud_room_db is None    # shipped: the power everywhere
+    assert shipped.mask_power(quiet) == shipped.mask_power(loud) == cfg.model.mask_power
 
 
 def test_a_mask_power_below_one_is_refused_by_name(tmp_path, capsys):

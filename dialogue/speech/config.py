@@ -30,6 +30,7 @@ class SpeechModelConfig(StrictModel):
     acoustic_model: Path | None   # None: the wheel's own en-US model, as it ships
     enhancer: Path | None         # None: the recordings are decoded as they are
     mask_power: float = Field(ge=1, le=16)
+    loud_room_db: float | None = Field(ge=0, le=100)   # None: the power everywhere
     language_weight: float = Field(gt=0, le=50)
 
     def path(self, name: Path) -> Path:

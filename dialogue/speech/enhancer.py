@@ -76,14 +76,16 @@ class VoiceEnhancer:
         self.floor = float(hp["mask_floor"])
 
     @torch.no_grad()
-    def enhance(self, samples: np.ndarray) -> np.ndarray:
-        """``samples`` (16 kHz floats) with what is not a household voice taken out."""
+    def enhance(self, samples: np.ndarray, power: float | None = None) -> np.ndarray:
+        """``samples`` (16 kHz floats) with what is not a household voice taken out, the
+        mask raised to ``power`` (default: the enhancer's own)."""
         x = torch.as_tensor(np.asarray(samples, dtype=np.float32))
         if len(x) < N_FFT:
             return np.asarray(samples, dtype=np.float64)
         with torch_threads(1):   # one thread beside the simulation, as the other models
             spec = spectrum(x)
-            mask = self.net(log_power(spec)[None])[0].T.pow(self.power).clamp_min(self.floor)
+            mask = self.net(log_power(spec)[None])[0].T.pow(self.power if power is None else power)
+            mask = mask.clamp_min(self.floor)
             y = torch.istft(spec * mask, N_FFT, HOP, window=torch.hann_window(N_FFT),
                             length=len(x))
         return y.double().numpy()

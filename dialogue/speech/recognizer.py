@@ -51,19 +51,33 @@ class Transcript:
         return len(self.text.split())
 
 
+def _frame_power(samples: np.ndarray) -> np.ndarray | None:
+    """The mean power of each :data:`FRAME` of ``samples``; None for under two frames."""
+    x = np.asarray(samples, dtype=np.float64)
+    n = len(x) // FRAME
+    return None if n < 2 else (x[:n * FRAME].reshape(n, FRAME) ** 2).mean(axis=1) + 1e-3
+
+
+def _db_spl(power: float) -> float:
+    return REFERENCE_DB + 10.0 * math.log10(power / 32768.0 ** 2)
+
+
 def loudness(samples: np.ndarray) -> tuple[float, float]:
     """The speech's level (dB SPL at the calibrated microphones) and how far it stands
     above the noise (dB), from the loud and the quiet frames of a sound that holds both,
     as a voice-activity detector judges them."""
-    x = np.asarray(samples, dtype=np.float64)
-    n = len(x) // FRAME
-    if n < 2:
+    power = _frame_power(samples)
+    if power is None:
         return -math.inf, -math.inf
-    power = (x[:n * FRAME].reshape(n, FRAME) ** 2).mean(axis=1) + 1e-3
     noise, loud = np.percentile(power, [QUIET, LOUD])
     speech = max(loud - noise, 1e-6)
-    return (REFERENCE_DB + 10.0 * math.log10(speech / 32768.0 ** 2),
-            10.0 * math.log10(max(speech / noise, 1e-6)))
+    return _db_spl(speech), 10.0 * math.log10(max(speech / noise, 1e-6))
+
+
+def noise_floor(samples: np.ndarray) -> float:
+    """The level (dB SPL) of a sound's quiet frames: the room's noise under the speech."""
+    power = _frame_power(samples)
+    return -math.inf if power is None else _db_spl(float(np.percentile(power, QUIET)))
 
 
 class SpeechRecognizer:
@@ -99,7 +113,7 @@ class SpeechRecognizer:
         x = resampled(samples, rate)
         heard_snr = loudness(x)[1]
         if self.enhancer is not None:
-            x = self.enhancer.enhance(x)
+            x = self.enhancer.enhance(x, self.mask_power(x))
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
             return Transcript("", 0.0, heard_snr)
@@ -113,6 +127,14 @@ class SpeechRecognizer:
         n = len(text.split())
         confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
         return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr)
+
+    def mask_power(self, samples: np.ndarray) -> float:
+        """The power the enhancer's mask is raised to for ``samples`` (16 kHz): the
+        sharper ``mask_power`` where the recording's noise floor says the room is loud
+        (``loud_room_db``), the net's own mask (1) in a quiet one."""
+        m = self.cfg.model
+        loud = m.loud_room_db is None or noise_floor(samples) >= m.loud_room_db
+        return m.mask_power if loud else 1.0
 
     def understood(self, transcript: Transcript) -> bool:
         """Whether ``transcript`` is sure enough to act on (else: ask again)."""
