@@ -118,6 +118,8 @@ def test_the_sharper_mask_is_kept_for_a_loud_room_and_a_quiet_room_gets_the_nets
     assert recogniser.mask_power(loud) == cfg.model.mask_power > 1
     assert shipped.cfg.model.loud_room_db is None    # shipped: the power everywhere
     assert shipped.mask_power(quiet) == shipped.mask_power(loud) == cfg.model.mask_power
+    recogniser.enhancer.power = 3.0          # as bench/bench_enhancer_mask.py weighs powers
+    assert (recogniser.mask_power(loud), recogniser.mask_power(quiet)) == (3.0, 1.0)
 
 
 def test_a_mask_power_below_one_is_refused_by_name(tmp_path, capsys):

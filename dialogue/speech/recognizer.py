@@ -130,11 +130,12 @@ class SpeechRecognizer:
 
     def mask_power(self, samples: np.ndarray) -> float:
         """The power the enhancer's mask is raised to for ``samples`` (16 kHz): the
-        sharper ``mask_power`` where the recording's noise floor says the room is loud
-        (``loud_room_db``), the net's own mask (1) in a quiet one."""
+        enhancer's sharper one (``mask_power``) where the recording's noise floor says the
+        room is loud (``loud_room_db``), the net's own mask (1) in a quiet one."""
         m = self.cfg.model
+        sharp = m.mask_power if self.enhancer is None else self.enhancer.power
         loud = m.loud_room_db is None or noise_floor(samples) >= m.loud_room_db
-        return m.mask_power if loud else 1.0
+        return sharp if loud else 1.0
 
     def understood(self, transcript: Transcript) -> bool:
         """Whether ``transcript`` is sure enough to act on (else: ask again)."""
