@@ -4,7 +4,6 @@ adaptation run with SphinxTrain's real tools, and the recogniser loading its res
 from __future__ import annotations
 
 import subprocess
-import wave
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +24,7 @@ from dialogue.speech.training.acoustic import (
 from dialogue.speech.training.corpus import DEV_FILE, HELD_OUT_FILES, tsv_lines
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import evaluation_words
+from dialogue.speech.wav import read_wav
 from dialogue.speech.words import spoken_words
 
 WHEEL = Path(get_model_path()) / "en-us" / "en-us"
@@ -109,14 +109,10 @@ def test_the_adaptations_recordings_pass_through_the_recognisers_enhancer(tmp_pa
     for folder, through in (("raw", None), ("enhanced", enhancer)):
         (tmp_path / folder).mkdir()
         record(lines, adapt, tmp_path / folder, through)
-    raw, enhanced = (_samples(tmp_path / folder / "c0_00000.wav") for folder in ("raw", "enhanced"))
+    raw, enhanced = (read_wav(tmp_path / folder / "c0_00000.wav")[0].astype(np.float64)
+                     for folder in ("raw", "enhanced"))
     lead = int(load_robot_config().acoustics.lead_s * RATE)   # the TV alone, before the line
     assert _db(enhanced[:lead]) < _db(raw[:lead]) - 10.0
-
-
-def _samples(path: Path) -> np.ndarray:
-    with wave.open(str(path)) as w:
-        return np.frombuffer(w.readframes(w.getnframes()), dtype="<i2").astype(np.float64)
 
 
 def _db(x: np.ndarray) -> float:
