@@ -17,7 +17,7 @@ weather, songs, chit-chat) and, like the questions, learnt by no model and never
 voices of ``companion eval asr --unseen-voices`` instead, quiet and with the TV on at 1 m.
 
 Usage: python bench/bench_enhancer_mask.py [--limit N] [--powers P ...] [--config SPEECH_YAML]
-       [--lines questions|requests] [--unseen-voices] [--json PATH]
+       [--lines questions|requests] [--unseen-voices] [--array] [--json PATH]
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import DEV_FILE, knowledge_questions, tsv_lines
 from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES
-from dialogue.speech.training.rooms import living_room, speaker_at
+from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_at
 from dialogue.speech.words import spoken_words
 
 CONDITIONS = (("tv", 1.0), ("tv", 3.0), ("quiet", 3.0))
@@ -60,6 +60,9 @@ def main() -> None:
                     help="say the questions in the four visitors' voices of eval asr "
                          "--unseen-voices, quiet and with the TV at 1 m (what the power "
                          "costs a voice the enhancer never learnt)")
+    ap.add_argument("--array", action="store_true",
+                    help="record each of the head's four microphones, as eval asr --array "
+                         "does (decoded as the config's model.beamformer says)")
     args = ap.parse_args()
     texts = (knowledge_questions() if args.lines == "questions"
              else [text for _, text in tsv_lines(DEV_FILE)])
@@ -75,9 +78,12 @@ def main() -> None:
     for noise, distance in VISITOR_CONDITIONS if args.unseen_voices else CONDITIONS:
         rng = np.random.default_rng(2)
         room, robot = living_room(*ROOM_M, noise)
-        recordings[noise, distance] = [room.at_microphones(*v, speaker_at(robot, distance, rng),
-                                                           robot, noise_loops(2), rng)
-                                       for v in voices]
+        recordings[noise, distance] = [
+            sum(room.parts_at_array(*v, speaker_at(robot, distance, rng), robot, ROBOT_HEADING,
+                                    noise_loops(2), rng)) if args.array
+            else room.at_microphones(*v, speaker_at(robot, distance, rng), robot,
+                                     noise_loops(2), rng)
+            for v in voices]
     assert recogniser.enhancer is not None, "the speech settings name no enhancer"
     rows = []
     for power in args.powers:

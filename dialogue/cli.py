@@ -48,8 +48,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--feed", type=Path, default=None,
                    help="RSS/Atom file for news (default: dialogue/data/news_sample.xml)")
     p.add_argument("--audio", type=Path, default=None, metavar="FILE.wav",
-                   help="transcribe this WAV file (16-bit PCM) with the robot's speech "
-                        "recogniser, answer it, and leave")
+                   help="transcribe this WAV file (16-bit PCM; several channels are taken "
+                        "as the head's microphones) with the robot's speech recogniser, "
+                        "answer it, and leave")
     p.add_argument("--out", type=Path, default=None,
                    help="keep the session's maps, photos and reply log (dialogue.jsonl) in this "
                         "folder (default: a temporary folder, removed when the session ends, "
@@ -164,7 +165,7 @@ def _answer_audio(args: argparse.Namespace, manager: Any, mood: str, out: TextIO
     from dialogue.speech.recognizer import SpeechRecognizer
     from dialogue.speech.wav import read_wav
 
-    samples, rate = read_wav(args.audio)
+    samples, rate = read_wav(args.audio, all_channels=True)   # a run's four microphones too
     heard = SpeechRecognizer().transcribe(samples, rate)
     reply = manager.respond(heard.text, mood, confidence=heard.confidence)
     if args.json:

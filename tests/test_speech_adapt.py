@@ -17,6 +17,7 @@ from dialogue.speech.config import SpeechConfig, load_speech_config
 from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
 from dialogue.speech.training.acoustic import (
     adapt_acoustic_model,
+    adaptation_beam,
     adaptation_enhancer,
     adaptation_lines,
     record,
@@ -113,6 +114,27 @@ def test_the_adaptations_recordings_pass_through_the_recognisers_enhancer(tmp_pa
                      for folder in ("raw", "enhanced"))
     lead = int(load_robot_config().acoustics.lead_s * RATE)   # the TV alone, before the line
     assert _db(enhanced[:lead]) < _db(raw[:lead]) - 10.0
+
+
+def test_the_adaptation_can_record_the_heads_microphones_and_take_them_through_the_beam(
+        tmp_path):
+    cfg = load_speech_config()
+    both = cfg.model_copy(update={"adapt": cfg.adapt.model_copy(update={"array": True}),
+                                  "model": cfg.model.model_copy(update={"beamformer": True})})
+    assert adaptation_beam(both) is not None
+    assert adaptation_beam(cfg) is None      # shipped: one microphone, no beam
+    adapt = cfg.adapt.model_copy(update={"copies": 1, "tv_share": 1.0, "array": True})
+    lines = [["what", "time", "is", "it"]]
+    heard: list[np.ndarray] = []
+
+    def beam(heads: np.ndarray) -> np.ndarray:   # records what it is given, passes the rear
+        heard.append(heads)
+        return heads[3]
+
+    record(lines, adapt, tmp_path, beam=beam)
+    written = read_wav(tmp_path / "c0_00000.wav")[0]
+    assert heard[0].shape[0] == 4
+    assert np.array_equal(written, np.clip(np.round(heard[0][3]), -32768, 32767))
 
 
 def _db(x: np.ndarray) -> float:

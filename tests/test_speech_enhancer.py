@@ -47,6 +47,23 @@ def test_a_small_training_run_writes_a_model_that_loads_without_code(tmp_path):
     assert out.shape == (RATE,) and np.isfinite(out).all()
 
 
+def test_a_run_from_a_trained_enhancer_starts_from_its_weights_on_the_heads_sounds(tmp_path):
+    small = {"examples": 12, "programmes": 1, "epochs": 1, "batch": 4, "hidden": 16}
+    lines = [["where", "is", "the", "kitchen"], ["sing", "a", "song"]]
+    base = load_speech_config().enhance.model_copy(update=small)
+    train_enhancer(base, lines, tmp_path / "first")
+    # on the first of the four microphones' recordings, from the first run's weights, with
+    # a step too small to move them: the weights are the first run's
+    then = base.model_copy(update={"array": True, "init": tmp_path / "first" / "enhancer.pt",
+                                   "learning_rate": 1e-12, "seed": 1})
+    train_enhancer(then, lines, tmp_path / "then")
+    first, after = (torch.load(tmp_path / d / "enhancer.pt", weights_only=True)
+                    for d in ("first", "then"))
+    assert after["hyperparameters"]["array"] is True
+    for name, weights in first["state_dict"].items():
+        assert torch.allclose(after["state_dict"][name].float(), weights.float(), atol=1e-3)
+
+
 def test_a_model_file_that_is_not_one_is_refused_by_name(tmp_path):
     bad = tmp_path / "enhancer.pt"
     bad.write_bytes(b"not a model")

@@ -20,6 +20,12 @@ adds its steady background (``noise.level_db``), every room's source (a TV at ``
 at 1 m) carries to the robot like a voice, and the microphones add their own noise
 (``self_noise_db``).
 The robot's own voice is never a source: it does not listen while it speaks.
+
+:meth:`Acoustics.parts_at_array` records the same sounds at each of the robot's head
+microphones (app/sim/microphone_array.py) instead: the direct sound delayed from one
+microphone to the next, the reverberation and the room's noise as diffuse fields, a
+source's programme reverberated like a voice, and the levels with the talker's directivity
+alone (``talker_directivity``): the array's beam is not assumed there, a beamformer earns it.
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ from scipy.signal import fftconvolve, resample_poly
 
 from app.core.config_files import StrictModel
 from app.sim.layout import Room
+from app.sim.microphone_array import MicrophoneArray
 
 RATE = 16_000             # Hz: the microphones' rate (what speech recognition takes)
 REFERENCE_DB = 100.0      # dB SPL of a full-scale (RMS 32,768) signal: the microphones' gain
@@ -54,6 +61,8 @@ class AcousticsConfig(StrictModel):
     self_noise_db: float = Field(ge=0, le=80)
     lead_s: float = Field(ge=0.1, le=2)
     trail_s: float = Field(ge=0.0, le=2)
+    microphones: list[tuple[float, float]] = Field(min_length=1, max_length=16)
+    talker_directivity: float = Field(ge=1, le=20)
 
 
 @dataclass(frozen=True)
@@ -123,7 +132,7 @@ def _level(linear_power: float) -> float:
     return 10.0 * math.log10(max(linear_power, 1e-12))
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=32)
 def _tail(t60: float, seed: int) -> np.ndarray:
     """A unit-energy impulse response of a diffuse field decaying 60 dB in ``t60``."""
     n = int(RATE * min(1.5 * t60, 2.0))
@@ -145,6 +154,7 @@ class Acoustics:
         doors = [d for r in self.rooms for d in door_centres(r)]
         # a door joins every room whose edge it lies on, whichever room names it
         self.doors = {r.name: [d for d in doors if r.contains(*d[0])] for r in self.rooms}
+        self.array = MicrophoneArray(cfg.microphones, RATE)
 
     def room_at(self, p: Point) -> Room | None:
         """The room holding ``p`` (None: in a wall or outside)."""
@@ -175,17 +185,20 @@ class Acoustics:
                          for d, w in self.doors[r.name] if d not in done]
         return None
 
-    def paths(self, a: Point, b: Point) -> tuple[float, float, float]:
+    def paths(self, a: Point, b: Point, directivity: float | None = None
+              ) -> tuple[float, float, float]:
         """The direct level (dB re the level at 1 m), the reverberant level (same), and
-        the length (m) of the loudest path from a source at ``a`` to a listener at ``b``."""
+        the length (m) of the loudest path from a source at ``a`` to a listener at ``b``
+        (``directivity``: of source and listener together, default the configured one)."""
         cfg = self.cfg
+        q = cfg.directivity if directivity is None else directivity
         d = max(math.dist(a, b), MIN_DISTANCE_M)
         walls = cfg.wall_loss_db * self.walls_between(a, b)
         direct, length = -20 * math.log10(d) - walls, d
         room, there = self.room_at(a), self.room_at(b)
         if room is None:
             return direct, -math.inf, length
-        field = -20 * math.log10(reverberation(room, cfg.absorption, cfg.directivity)[1])
+        field = -20 * math.log10(reverberation(room, cfg.absorption, q)[1])
         if there is None or there.name == room.name:
             return direct, field, length
         reverberant = field - walls
@@ -246,19 +259,77 @@ class Acoustics:
         x = resampled(voice, rate)
         x /= max(float(np.sqrt((x ** 2).mean())), 1e-9)     # unit RMS: the voice at 1 m
         direct, reverberant, _ = self.paths(speaker, listener)
-        room = self.room_at(speaker)
-        t60 = reverberation(room, cfg.absorption)[0] if room is not None else 0.3
-        wet = fftconvolve(x, _tail(round(t60, 2), int(rng.integers(8))))
+        wet = fftconvolve(x, _tail(self._t60(speaker), int(rng.integers(8))))
         lead, trail = int(cfg.lead_s * RATE), int(cfg.trail_s * RATE)
         said = np.zeros(lead + len(wet) + trail)
         said[lead:lead + len(x)] += x * _rms(cfg.speech_db + direct)
         said[lead:lead + len(wet)] += wet * _rms(cfg.speech_db + reverberant)
         background = np.zeros_like(said)
         for kind, level in self.noise_levels(listener).items():
-            loop = noises[kind]
-            start = int(rng.integers(len(loop)))
-            background += np.resize(np.roll(loop, -start), len(said)) * _rms(level)
+            background += _entered(noises[kind], len(said), rng) * _rms(level)
         return said, background
+
+    def _t60(self, at: Point) -> float:
+        """The reverberation time (s, to 10 ms) of the room holding ``at`` (0.3 outside)."""
+        room = self.room_at(at)
+        return 0.3 if room is None else round(reverberation(room, self.cfg.absorption)[0], 2)
+
+    def _tails(self, at: Point, rng: np.random.Generator) -> list[np.ndarray]:
+        """An independent reverberation tail of ``at``'s room for each microphone."""
+        seeds = rng.choice(16, size=self.array.count, replace=False)
+        return [_tail(self._t60(at), int(seed)) for seed in seeds]
+
+    def _loops(self, loop: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+        """``n`` samples of ``loop`` for each microphone, each entered at a random point."""
+        return np.stack([_entered(loop, n, rng) for _ in range(self.array.count)])
+
+    def _at_array(self, sound: np.ndarray, source: Point, listener: Point, heading: float,
+                  level_db: float, rng: np.random.Generator) -> np.ndarray:
+        """``sound`` (unit RMS) played at ``level_db`` one metre from ``source``, at each
+        microphone (``(M, len(sound) - tail)``): its direct sound delayed to each, its
+        reverberation diffuse; the first tail's length of ``sound`` only feeds the
+        reverberation (the room was already ringing when the recording starts)."""
+        array, q = self.array, self.cfg.talker_directivity
+        direct, reverberant, _ = self.paths(source, listener, q)
+        tails = self._tails(source, rng)
+        pre = len(tails[0])
+        out = array.delayed(sound, array.delays(source, listener, heading))[:, pre:]
+        wet = np.stack([fftconvolve(sound, h)[pre:len(sound)] for h in tails])
+        return (out * _rms(level_db + direct)
+                + array.diffuse(wet) * _rms(level_db + reverberant))
+
+    def parts_at_array(self, voice: np.ndarray, rate: int, speaker: Point, listener: Point,
+                       heading: float, noises: Mapping[str, np.ndarray],
+                       rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`parts_at_microphones` at each of the head's microphones (``(M, n)``
+        each), the head at ``listener`` facing ``heading`` (rad): the voice, and the
+        background (the room's steady noise diffuse, the microphones' own independent at
+        each, every room's source as a voice is)."""
+        cfg = self.cfg
+        x = resampled(voice, rate)
+        x /= max(float(np.sqrt((x ** 2).mean())), 1e-9)
+        pre = len(_tail(self._t60(speaker), 0))
+        lead, trail = int(cfg.lead_s * RATE), int(cfg.trail_s * RATE)
+        padded = np.concatenate([np.zeros(pre + lead), x, np.zeros(pre + trail)])
+        said = self._at_array(padded, speaker, listener, heading, cfg.speech_db, rng)
+        n = said.shape[1]
+        background = self._loops(noises["steady"], n, rng) * _rms(cfg.self_noise_db)
+        room = self.room_at(listener)
+        if room is not None:
+            steady = self._loops(noises["steady"], n, rng)
+            background += self.array.diffuse(steady) * _rms(room.noise.level_db)
+        for r in self.rooms:
+            if r.noise.source is not None:
+                at = self.sources[r.noise.source]
+                played = _entered(noises["programme"], n + len(_tail(self._t60(at), 0)), rng)
+                background += self._at_array(played, at, listener, heading, r.noise.source_db,
+                                             rng)
+        return said, background
+
+
+def _entered(loop: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+    """``n`` samples of ``loop``, entered at a random point."""
+    return np.resize(np.roll(loop, -int(rng.integers(len(loop)))), n)
 
 
 def _rms(level_db: float) -> float:

@@ -6,9 +6,11 @@ each line a person says (:class:`app.sim.world_types.SayEvent`, or words of enco
 household by :mod:`app.sim.acoustics`, over the background of the robot's room), with the
 bearing of the voice as the array estimates it (the true bearing from the robot's head to
 the speaker plus Gaussian noise, ``direction_noise_deg``). A line too faint to rise above
-the noise makes no sound at all. The words themselves are not in a :class:`Sound`: the
-robot gets them only by recognising the recording (``dialogue/speech``). The simulator's
-positions only make the recording; the behaviours see the recording alone.
+the noise makes no sound at all; with ``array`` the sound holds each of the head's four
+microphones (``(4, n)``, :meth:`Acoustics.parts_at_array`). The words themselves are not
+in a :class:`Sound`: the robot gets them only by recognising the recording
+(``dialogue/speech``). The simulator's positions only make the recording; the behaviours
+see the recording alone.
 
 Who said a line, and to whom, are still given (docs/what_the_robot_is_given.md).
 """
@@ -31,14 +33,16 @@ class MicrophonesConfig(StrictModel):
 
     direction_noise_deg: float = Field(ge=0.0, le=180.0)
     audible_below_noise_db: float = Field(ge=0.0, le=40.0)
+    array: bool     # record each head microphone (Acoustics.parts_at_array), not one
 
 
 @dataclass(frozen=True)
 class Sound:
     """A recording of one line: ``line`` numbers it within the run, ``audio`` holds the
-    samples at ``rate`` Hz; ``bearing`` (rad, world frame) is where the voice came from as
-    the microphones localised it. Whether the words are encouragement is for the robot to
-    make out from them."""
+    samples at ``rate`` Hz (one microphone's, or ``(4, n)``: each of the head's);
+    ``bearing`` (rad, world frame) is where the voice came from as the microphones
+    localised it. Whether the words are encouragement is for the robot to make out from
+    them."""
 
     line: int
     t: float

@@ -84,8 +84,12 @@ class HouseholdSound:
                           "noise_db": round(float(background), 1), "audible": bool(audible)})
         if not audible or (voice := self._voice(event.text, event.person)) is None:
             return None
-        audio = self.acoustics.at_microphones(*voice, at, here, noise_loops(self.scenario.seed),
-                                              self.microphones.rng)
+        loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
+        if self.microphones.cfg.array:
+            audio = sum(self.acoustics.parts_at_array(*voice, at, here, self.robot.head_yaw(),
+                                                      loops, rng))
+        else:
+            audio = self.acoustics.at_microphones(*voice, at, here, loops, rng)
         if self.voices_dir is not None:
             write_wav(self.voices_dir / f"line-{line:04d}.wav",
                       np.clip(np.round(audio), -32768, 32767).astype(np.int16), RATE)

@@ -364,6 +364,11 @@ class Robot:
         rot = rot.reshape(3, 3)
         return np.array(state[4]), rot[:, 0], rot[:, 2]
 
+    def head_yaw(self) -> float:
+        """Where the head faces on the floor (rad, world frame): its camera's axis."""
+        axis = self.camera_pose()[1]
+        return math.atan2(float(axis[1]), float(axis[0]))
+
     def camera_matrices(self, width: int, height: int) -> tuple[list[float], list[float]]:
         """The head camera's OpenGL view and projection matrices (column-major) for a
         ``width`` x ``height`` frame, as ``getCameraImage`` takes them."""

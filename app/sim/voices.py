@@ -137,11 +137,12 @@ def check_voice(voice: Voice) -> None:
 
 
 def wav_bytes(samples: np.ndarray, rate: int) -> bytes:
-    """A mono 16-bit WAV file of ``samples``."""
+    """A 16-bit WAV file of ``samples``: mono, or one channel per row of ``(M, n)``."""
+    channels = np.atleast_2d(samples)
     buffer = io.BytesIO()
     with wave.open(buffer, "wb") as w:
-        w.setnchannels(1)
+        w.setnchannels(len(channels))
         w.setsampwidth(2)
         w.setframerate(rate)
-        w.writeframes(samples.astype(np.int16).tobytes())
+        w.writeframes(channels.T.astype(np.int16).tobytes())
     return buffer.getvalue()

@@ -32,6 +32,15 @@ class SpeechModelConfig(StrictModel):
     mask_power: float = Field(ge=1, le=16)
     loud_room_db: float | None = Field(ge=0, le=100)   # None: the power everywhere
     language_weight: float = Field(gt=0, le=50)
+    beamformer: bool              # decode the head's microphones through the MVDR beam
+    beamformer_loading: float = Field(ge=0, le=10)
+
+    @model_validator(mode="after")
+    def _beam_needs_mask(self) -> Self:
+        if self.beamformer and self.enhancer is None:
+            raise ValueError("beamformer: the beam is steered by the enhancer's mask; name "
+                             "an enhancer or set beamformer: false")
+        return self
 
     def path(self, name: Path) -> Path:
         """``name`` from the repository root unless absolute."""
@@ -106,6 +115,7 @@ class SpeechAdaptConfig(StrictModel):
     room_depth_m: tuple[float, float]
     tv_share: float = Field(ge=0, le=1)
     enhanced: bool
+    array: bool         # record all the head's microphones (Acoustics.parts_at_array)
     iterations: int = Field(ge=1, le=5)
     seed: int = Field(ge=0)
     sphinxtrain_dir: Path
@@ -145,6 +155,8 @@ class EnhancerTrainConfig(StrictModel):
     validation_share: float = Field(gt=0, lt=1)
     threads: int = Field(ge=1)
     seed: int = Field(ge=0)
+    array: bool                 # the first of the head's microphones, as parts_at_array records
+    init: Path | None           # start from this enhancer's weights (None: random)
 
     @model_validator(mode="after")
     def _ranges(self) -> Self:

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from app.sim.acoustics import RATE, REFERENCE_DB, resampled
+from dialogue.speech.beamformer import beamform
 from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
@@ -106,12 +107,13 @@ class SpeechRecognizer:
             self.enhancer = VoiceEnhancer(m.path(m.enhancer), m.mask_power)
 
     def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
-        """The words in ``samples`` (mono, any rate), their confidence and the sound's SNR
-        as the microphones recorded it (how well the robot hears from where it is). Whether
-        it is speech at all is judged after the enhancer, when there is one, has taken out
-        what is not a household voice."""
-        x = resampled(samples, rate)
-        heard_snr = loudness(x)[1]
+        """The words in ``samples`` (mono, or ``(M, n)`` from the head's microphones; any
+        rate), their confidence and the sound's SNR as the first microphone recorded it (how
+        well the robot hears from where it is). Whether it is speech at all is judged after
+        the enhancer, when there is one, has taken out what is not a household voice."""
+        channels = np.stack([resampled(c, rate) for c in np.atleast_2d(samples)])
+        heard_snr = loudness(channels[0])[1]
+        x = channels[0] if len(channels) == 1 else self.one_channel(channels)
         if self.enhancer is not None:
             x = self.enhancer.enhance(x, self.mask_power(x))
         level, snr = loudness(x)
@@ -127,6 +129,13 @@ class SpeechRecognizer:
         n = len(text.split())
         confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
         return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr)
+
+    def one_channel(self, channels: np.ndarray) -> np.ndarray:
+        """What is decoded of the head's microphones (``(M, n)`` at 16 kHz): the
+        beamformer's output (``model.beamformer``), else the first microphone."""
+        if not self.cfg.model.beamformer or self.enhancer is None:
+            return channels[0]
+        return beamform(channels, self.enhancer, self.cfg.model.beamformer_loading)
 
     def mask_power(self, samples: np.ndarray) -> float:
         """The power the enhancer's mask is raised to for ``samples`` (16 kHz): the

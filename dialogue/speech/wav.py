@@ -1,4 +1,5 @@
-"""Reading a user's WAV file for the recogniser: 16-bit PCM, mono or the first channel."""
+"""Reading a user's WAV file for the recogniser: 16-bit PCM, mono or several channels (the
+head's microphones, as a household run with audio writes them)."""
 
 from __future__ import annotations
 
@@ -19,8 +20,9 @@ class WavError(UserError):
     """A WAV file the recogniser cannot take."""
 
 
-def read_wav(path: Path) -> tuple[np.ndarray, int]:
-    """The samples (int16, first channel) and rate of the WAV file at ``path``."""
+def read_wav(path: Path, all_channels: bool = False) -> tuple[np.ndarray, int]:
+    """The samples (int16: the first channel, or with ``all_channels`` every one as a row
+    of ``(channels, n)``) and rate of the WAV file at ``path``."""
     data = read_bytes(path, WAV_LIMIT)
     try:
         with wave.open(io.BytesIO(data), "rb") as w:
@@ -32,7 +34,7 @@ def read_wav(path: Path) -> tuple[np.ndarray, int]:
         raise WavError(f"{path}: {8 * width}-bit samples; the recogniser takes 16-bit PCM")
     if not MIN_RATE <= rate <= MAX_RATE:
         raise WavError(f"{path}: a rate of {rate} Hz; give {MIN_RATE}-{MAX_RATE} Hz")
-    samples = np.frombuffer(frames, dtype="<i2").reshape(-1, channels)[:, 0]
-    if len(samples) == 0:
+    samples = np.frombuffer(frames, dtype="<i2").reshape(-1, channels).T
+    if samples.shape[1] == 0:
         raise WavError(f"{path}: no samples")
-    return samples.copy(), rate
+    return (samples if all_channels else samples[0]).copy(), rate

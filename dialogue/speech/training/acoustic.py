@@ -27,6 +27,7 @@ import subprocess
 import tempfile
 import wave
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -36,15 +37,17 @@ from app.core.errors import UserError
 from app.sim.acoustics import RATE
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
+from dialogue.speech.beamformer import beamform
 from dialogue.speech.config import SpeechAdaptConfig, SpeechConfig
 from dialogue.speech.enhancer import VoiceEnhancer
 from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
-from dialogue.speech.training.rooms import living_room, speaker_within
+from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_within
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import full_dictionary
 from dialogue.speech.words import spoken_words
 
+Beam = Callable[[np.ndarray], np.ndarray]   # the head's microphones (M, n) -> one channel
 PARAMETERS = ("means", "variances", "mixture_weights", "transition_matrices")
 DECODER_ONLY = ("-cmn", "-varnorm", "-agc", "-model", "-feat", "-svspec")
 
@@ -97,12 +100,24 @@ def adaptation_enhancer(cfg: SpeechConfig) -> VoiceEnhancer | None:
     return VoiceEnhancer(m.path(m.enhancer), m.mask_power)
 
 
+def adaptation_beam(cfg: SpeechConfig) -> Beam | None:
+    """The beam the acoustic model's recordings of the head's microphones are taken
+    through: the recogniser's, when ``adapt.array`` records them all and
+    ``model.beamformer`` decodes the beam (else the first microphone is taken)."""
+    m = cfg.model
+    if not (cfg.adapt.array and m.beamformer) or m.enhancer is None:
+        return None
+    return partial(beamform, enhancer=VoiceEnhancer(m.path(m.enhancer)),
+                   loading=m.beamformer_loading)
+
+
 def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
-           enhancer: VoiceEnhancer | None = None) -> tuple[list[str], list[str]]:
+           enhancer: VoiceEnhancer | None = None, beam: Beam | None = None,
+           ) -> tuple[list[str], list[str]]:
     """Say every line ``copies`` times, each time in a drawn voice, room, distance and
-    noise, and write the microphones' recordings (through ``enhancer`` when given) as
-    16 kHz WAV files in ``folder``; the file ids and their SphinxTrain transcription
-    lines."""
+    noise, and write the microphones' recordings (with ``adapt.array`` all the head's,
+    through ``beam`` or the first; then through ``enhancer`` when given) as 16 kHz WAV
+    files in ``folder``; the file ids and their SphinxTrain transcription lines."""
     rng = np.random.default_rng(cfg.seed)
     loops = noise_loops(cfg.seed)
     ids, transcripts = [], []
@@ -114,7 +129,12 @@ def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
             acoustics, robot = living_room(width, depth, noise)
             speaker = speaker_within(robot, depth, cfg.distance_m, rng)
             samples, rate = synthesise(" ".join(words), voice)
-            audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
+            if cfg.array:
+                heads = sum(acoustics.parts_at_array(samples, rate, speaker, robot,
+                                                     ROBOT_HEADING, loops, rng))
+                audio = heads[0] if beam is None else beam(heads)
+            else:
+                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
             if enhancer is not None:
                 audio = enhancer.enhance(audio)
             fid = f"c{copy}_{k:05d}"
@@ -179,10 +199,11 @@ def _iteration(cfg: SpeechAdaptConfig, base: Path, prior: Path, out: Path, work:
 def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
                          out_dir: Path, enhancer: VoiceEnhancer | None = None,
                          progress: Callable[[str], None] | None = None,
-                         ) -> dict[str, object]:
-    """Adapt the wheel's en-US model to recordings (passed through ``enhancer`` when
-    given, as the recogniser will pass what it hears) and write what the recogniser loads
-    to ``out_dir`` (with ``adaptation.json``, the figures for the model card)."""
+                         beam: Beam | None = None) -> dict[str, object]:
+    """Adapt the wheel's en-US model to recordings (taken through ``beam`` and
+    ``enhancer`` when given, as the recogniser will take what it hears) and write what the
+    recogniser loads to ``out_dir`` (with ``adaptation.json``, the figures for the model
+    card)."""
     say = progress or (lambda _: None)
     source = wheel_model_dir() / "en-us"
     dictionary = wheel_model_dir() / "cmudict-en-us.dict"
@@ -193,7 +214,7 @@ def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
         for folder in ("wav", "mfc", "base"):
             (work / folder).mkdir()
         _base_model(cfg, source, work / "base", log)
-        ids, transcripts = record(lines, cfg, work / "wav", enhancer)
+        ids, transcripts = record(lines, cfg, work / "wav", enhancer, beam)
         (work / "adapt.transcription").write_text("\n".join(transcripts) + "\n")
         say(f"{len(ids)} recordings of {len(lines)} lines")
         _features(cfg, source, work, ids, log)

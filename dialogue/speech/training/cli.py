@@ -47,6 +47,9 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--unseen-voices", action="store_true",
                    help="say the lines in four voices no household person has, which the "
                         "acoustic model's adaptation never heard")
+    p.add_argument("--array", action="store_true",
+                   help="record each of the head's four microphones (the TV reverberated, "
+                        "the beam not assumed) and decode them as model.beamformer says")
     p.set_defaults(func=run_eval)
 
 
@@ -55,6 +58,7 @@ def run_train(args: argparse.Namespace) -> int:
     from dialogue.speech.config import load_speech_config
     from dialogue.speech.training.acoustic import (
         adapt_acoustic_model,
+        adaptation_beam,
         adaptation_enhancer,
         adaptation_lines,
     )
@@ -75,7 +79,7 @@ def run_train(args: argparse.Namespace) -> int:
     if args.only in (None, "acoustic"):
         figures["acoustic_model"] = adapt_acoustic_model(
             cfg.adapt, evaluation_words(), args.out / "acoustic", adaptation_enhancer(cfg),
-            progress=print)
+            progress=print, beam=adaptation_beam(cfg))
     print(json.dumps(figures, indent=2))
     return 0
 
@@ -86,7 +90,7 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.speech.training.evaluate import evaluate_asr
 
     result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
-                          unseen_voices=args.unseen_voices)
+                          unseen_voices=args.unseen_voices, array=args.array)
     if args.json:
         print(json.dumps(result))
         return 0

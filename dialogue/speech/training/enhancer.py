@@ -6,7 +6,8 @@ the recording's spectrum and compare its magnitudes with the voice's, both raise
 ``compression`` (loud and quiet cells count more evenly; Wilson et al., 2018, "Exploring
 tradeoffs in models for low-latency speech enhancement"). After each epoch the model with
 the lowest validation loss so far is written, atomically, with every hyper-parameter, so
-an interrupted run keeps its best model.
+an interrupted run keeps its best model. With ``init`` the network starts from a trained
+enhancer's weights instead of random ones (to teach it another rendering of the rooms).
 """
 
 from __future__ import annotations
@@ -19,8 +20,14 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from app.core.checkpoint import atomic_torch_save, atomic_write_bytes, fp16_state
-from dialogue.speech.config import EnhancerTrainConfig
+from app.core.checkpoint import (
+    atomic_torch_save,
+    atomic_write_bytes,
+    fp16_state,
+    fp32_state,
+    read_weights,
+)
+from dialogue.speech.config import EnhancerTrainConfig, SpeechModelError, from_root
 from dialogue.speech.enhancer import BINS, MaskNet
 from dialogue.speech.training.enhancer_data import Examples, make_examples
 
@@ -71,8 +78,12 @@ def train_enhancer(cfg: EnhancerTrainConfig, lines: list[list[str]], out_dir: Pa
     n_val = max(1, int(cfg.validation_share * len(order)))
     val, train = order[:n_val], order[n_val:]
     net = MaskNet(cfg.hidden, cfg.layers)
-    features = torch.cat([examples.mixed[i].float() for i in train[:500]])
-    net.scale.copy_(torch.stack([features.mean(0), features.std(0)]))
+    if cfg.init is None:
+        features = torch.cat([examples.mixed[i].float() for i in train[:500]])
+        net.scale.copy_(torch.stack([features.mean(0), features.std(0)]))
+    else:   # go on from a trained enhancer of the same size (its features' scale too)
+        net.load_state_dict(fp32_state(read_weights(
+            from_root(cfg.init), SpeechModelError, "enhance.init names it")["state_dict"]))
     optimiser = torch.optim.Adam(net.parameters(), lr=cfg.learning_rate)
     steps = cfg.epochs * (len(train) // cfg.batch)
     schedule = torch.optim.lr_scheduler.OneCycleLR(optimiser, cfg.learning_rate, total_steps=steps)

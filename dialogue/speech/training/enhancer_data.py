@@ -24,7 +24,7 @@ from dialogue.chat.sources import chatterbot_conversations
 from dialogue.chat.training.data import chatterbot_dir
 from dialogue.speech.config import EnhancerTrainConfig
 from dialogue.speech.enhancer import log_power, spectrum
-from dialogue.speech.training.rooms import living_room, speaker_within
+from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_within
 
 
 @dataclass
@@ -79,8 +79,12 @@ def make_examples(lines: list[list[str]], cfg: EnhancerTrainConfig,
         speaker = speaker_within(robot, depth, cfg.distance_m, rng)
         samples, rate = synthesise(" ".join(words), voice)
         noises = {"steady": steady, "programme": loops[int(rng.integers(len(loops)))]}
-        said, background = acoustics.parts_at_microphones(samples, rate, speaker, robot,
-                                                          noises, rng)
+        if cfg.array:
+            said, background = (part[0] for part in acoustics.parts_at_array(
+                samples, rate, speaker, robot, ROBOT_HEADING, noises, rng))
+        else:
+            said, background = acoustics.parts_at_microphones(samples, rate, speaker, robot,
+                                                              noises, rng)
         both = torch.as_tensor(np.stack([said + background, said]), dtype=torch.float32)
         mixed, alone = log_power(spectrum(both)).half()
         out.mixed.append(mixed)

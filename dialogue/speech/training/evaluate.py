@@ -24,7 +24,7 @@ from dialogue.intent import IntentClassifier
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import SpeechRecognizer, Transcript
 from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
-from dialogue.speech.training.rooms import NOISES, living_room, speaker_at
+from dialogue.speech.training.rooms import NOISES, ROBOT_HEADING, living_room, speaker_at
 from dialogue.speech.words import spoken_words
 
 DISTANCES_M = (1.0, 3.0, 5.0)
@@ -74,9 +74,10 @@ class Said:
 
 
 def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: SpeechRecognizer,
-                  seed: int = 0) -> Iterator[Said]:
+                  seed: int = 0, array: bool = False) -> Iterator[Said]:
     """Each of ``texts``, said by ``speakers`` in turn, in the evaluation's living room (quiet
-    and with the TV on) from each of :data:`DISTANCES_M`, and transcribed."""
+    and with the TV on) from each of :data:`DISTANCES_M`, and transcribed (``array``: as
+    each of the head's microphones records it, :meth:`Acoustics.parts_at_array`)."""
     rng = np.random.default_rng(seed)
     loops = noise_loops(seed)
     voices = [synthesise(text, speakers[i % len(speakers)]) for i, text in enumerate(texts)]
@@ -85,27 +86,31 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
         for distance in DISTANCES_M:
             for i, (samples, rate) in enumerate(voices):
                 speaker = speaker_at(robot, distance, rng)
-                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
+                audio = (sum(acoustics.parts_at_array(samples, rate, speaker, robot,
+                                                      ROBOT_HEADING, loops, rng))
+                         if array else
+                         acoustics.at_microphones(samples, rate, speaker, robot, loops, rng))
                 t0 = time.perf_counter()
                 heard = recogniser.transcribe(audio, RATE)
                 yield Said(noise, distance, i, heard, time.perf_counter() - t0,
-                           len(audio) / RATE)
+                           audio.shape[-1] / RATE)
 
 
 def evaluate_asr(limit: int | None = None, seed: int = 0,
                  progress: Callable[[str], None] | None = None,
                  cfg: SpeechConfig | None = None, unseen_voices: bool = False,
-                 ) -> dict[str, object]:
+                 array: bool = False) -> dict[str, object]:
     """The table of :class:`Condition` rows over the held-out lines (the first ``limit``
     of each file when given), with the recogniser's speed; ``cfg`` chooses the models, and
-    ``unseen_voices`` says the lines in :data:`UNSEEN_VOICES` instead of the people's."""
+    ``unseen_voices`` says the lines in :data:`UNSEEN_VOICES` instead of the people's;
+    ``array`` records all the head's microphones (:func:`said_in_rooms`)."""
     speakers = UNSEEN_VOICES if unseen_voices else PEOPLE_VOICES[:VOICES]
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
     recogniser, router = SpeechRecognizer(cfg), IntentClassifier.default()
     conditions: dict[tuple[str, float], Condition] = {}
     decode_s = audio_s = 0.0
-    for said in said_in_rooms([text for _, text in lines], speakers, recogniser, seed):
+    for said in said_in_rooms([text for _, text in lines], speakers, recogniser, seed, array):
         c = conditions.setdefault((said.noise, said.distance),
                                   Condition(said.distance, said.noise, [], [], [], [], []))
         label, text = lines[said.index]
@@ -118,6 +123,6 @@ def evaluate_asr(limit: int | None = None, seed: int = 0,
             c.routed_text.append(router.classify(text).label == label)
         if said.index == len(lines) - 1 and progress is not None:
             progress(f"{said.noise} {said.distance:g} m: {c.row()}")
-    return {"rows": [c.row() for c in conditions.values()],
+    return {"rows": [c.row() for c in conditions.values()], "array": array,
             "voices": [v.espeak_name for v in speakers],
             "lines": len(lines), "real_time_factor": round(decode_s / audio_s, 4)}

@@ -14,6 +14,7 @@ from app.sim.robot_config import load_robot_config
 TV_DB = 60.0              # the TV one metre in front of it: a normal volume
 ROBOT_FROM_WALL_M = 1.0   # the robot stands this far from the near wall, in the middle
 NOISES = ("quiet", "tv")
+ROBOT_HEADING = math.pi / 2   # the robot faces into the room, towards the TV's wall
 
 
 def living_room(width: float, depth: float, noise: str, tv_db: float = TV_DB
