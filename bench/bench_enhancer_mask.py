@@ -17,7 +17,8 @@ weather, songs, chit-chat) and, like the questions, learnt by no model and never
 voices of ``companion eval asr --unseen-voices`` instead, quiet and with the TV on at 1 m.
 
 Usage: python bench/bench_enhancer_mask.py [--limit N] [--powers P ...] [--config SPEECH_YAML]
-       [--lines questions|requests] [--unseen-voices] [--array] [--json PATH]
+       [--lines questions|requests] [--unseen-voices] [--microphones one|array]
+       [--json PATH]
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import jiwer
 import numpy as np
 
 from app.sim.acoustics import RATE
+from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
@@ -60,10 +62,12 @@ def main() -> None:
                     help="say the questions in the four visitors' voices of eval asr "
                          "--unseen-voices, quiet and with the TV at 1 m (what the power "
                          "costs a voice the enhancer never learnt)")
-    ap.add_argument("--array", action="store_true",
-                    help="record each of the head's four microphones, as eval asr --array "
-                         "does (decoded as the config's model.beamformer says)")
+    ap.add_argument("--microphones", choices=("one", "array"), default=None,
+                    help="one microphone or the head's four, as in eval asr (default: as "
+                         "robot.yaml's microphones.array says)")
     args = ap.parse_args()
+    array = (load_robot_config().microphones.array if args.microphones is None
+             else args.microphones == "array")
     texts = (knowledge_questions() if args.lines == "questions"
              else [text for _, text in tsv_lines(DEV_FILE)])
     texts = texts[:args.limit or (60 if args.lines == "questions" else len(texts))]
@@ -80,7 +84,7 @@ def main() -> None:
         room, robot = living_room(*ROOM_M, noise)
         recordings[noise, distance] = [
             sum(room.parts_at_array(*v, speaker_at(robot, distance, rng), robot, ROBOT_HEADING,
-                                    noise_loops(2), rng)) if args.array
+                                    noise_loops(2), rng)) if array
             else room.at_microphones(*v, speaker_at(robot, distance, rng), robot,
                                      noise_loops(2), rng)
             for v in voices]

@@ -47,9 +47,10 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--unseen-voices", action="store_true",
                    help="say the lines in four voices no household person has, which the "
                         "acoustic model's adaptation never heard")
-    p.add_argument("--array", action="store_true",
-                   help="record each of the head's four microphones (the TV reverberated, "
-                        "the beam not assumed) and decode them as model.beamformer says")
+    p.add_argument("--microphones", choices=("one", "array"), default=None,
+                   help="record one microphone (the beam's gain assumed, the TV dry) or each "
+                        "of the head's four, decoded as model.beamformer says (default: as "
+                        "robot.yaml's microphones.array says)")
     p.set_defaults(func=run_eval)
 
 
@@ -90,7 +91,8 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.speech.training.evaluate import evaluate_asr
 
     result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
-                          unseen_voices=args.unseen_voices, array=args.array)
+                          unseen_voices=args.unseen_voices,
+                          array=None if args.microphones is None else args.microphones == "array")
     if args.json:
         print(json.dumps(result))
         return 0

@@ -18,6 +18,7 @@ import jiwer
 import numpy as np
 
 from app.sim.acoustics import RATE
+from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
 from dialogue.intent import IntentClassifier
@@ -99,11 +100,14 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
 def evaluate_asr(limit: int | None = None, seed: int = 0,
                  progress: Callable[[str], None] | None = None,
                  cfg: SpeechConfig | None = None, unseen_voices: bool = False,
-                 array: bool = False) -> dict[str, object]:
+                 array: bool | None = None) -> dict[str, object]:
     """The table of :class:`Condition` rows over the held-out lines (the first ``limit``
     of each file when given), with the recogniser's speed; ``cfg`` chooses the models, and
     ``unseen_voices`` says the lines in :data:`UNSEEN_VOICES` instead of the people's;
-    ``array`` records all the head's microphones (:func:`said_in_rooms`)."""
+    ``array`` records all the head's microphones (:func:`said_in_rooms`; default: as the
+    robot's ``microphones.array`` says)."""
+    if array is None:
+        array = load_robot_config().microphones.array
     speakers = UNSEEN_VOICES if unseen_voices else PEOPLE_VOICES[:VOICES]
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
