@@ -39,7 +39,7 @@ from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import DEV_FILE, knowledge_questions, tsv_lines
 from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES
-from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_at
+from dialogue.speech.training.rooms import living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
 
 CONDITIONS = (("tv", 1.0), ("tv", 3.0), ("quiet", 3.0))
@@ -83,10 +83,8 @@ def main() -> None:
         rng = np.random.default_rng(2)
         room, robot = living_room(*ROOM_M, noise)
         recordings[noise, distance] = [
-            sum(room.parts_at_array(*v, speaker_at(robot, distance, rng), robot, ROBOT_HEADING,
-                                    noise_loops(2), rng)) if array
-            else room.at_microphones(*v, speaker_at(robot, distance, rng), robot,
-                                     noise_loops(2), rng)
+            recording(room, *v, speaker_at(robot, distance, rng), robot, noise_loops(2), rng,
+                      array)
             for v in voices]
     assert recogniser.enhancer is not None, "the speech settings name no enhancer"
     rows = []

@@ -248,6 +248,15 @@ class Acoustics:
         said, background = self.parts_at_microphones(voice, rate, speaker, listener, noises, rng)
         return said + background
 
+    def at_array(self, voice: np.ndarray, rate: int, speaker: Point, listener: Point,
+                 heading: float, noises: Mapping[str, np.ndarray], rng: np.random.Generator
+                 ) -> np.ndarray:
+        """What each of the head's microphones records (``(M, n)``): the sum of the two
+        parts of :meth:`parts_at_array`."""
+        said, background = self.parts_at_array(voice, rate, speaker, listener, heading, noises,
+                                                rng)
+        return said + background
+
     def parts_at_microphones(self, voice: np.ndarray, rate: int, speaker: Point,
                              listener: Point, noises: Mapping[str, np.ndarray],
                              rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
@@ -273,6 +282,10 @@ class Acoustics:
         """The reverberation time (s, to 10 ms) of the room holding ``at`` (0.3 outside)."""
         room = self.room_at(at)
         return 0.3 if room is None else round(reverberation(room, self.cfg.absorption)[0], 2)
+
+    def _ringing(self, at: Point) -> int:
+        """How many samples a sound keeps ringing in ``at``'s room (its tails' length)."""
+        return len(_tail(self._t60(at), 0))
 
     def _tails(self, at: Point, rng: np.random.Generator) -> list[np.ndarray]:
         """An independent reverberation tail of ``at``'s room for each microphone."""
@@ -308,7 +321,7 @@ class Acoustics:
         cfg = self.cfg
         x = resampled(voice, rate)
         x /= max(float(np.sqrt((x ** 2).mean())), 1e-9)
-        pre = len(_tail(self._t60(speaker), 0))
+        pre = self._ringing(speaker)
         lead, trail = int(cfg.lead_s * RATE), int(cfg.trail_s * RATE)
         padded = np.concatenate([np.zeros(pre + lead), x, np.zeros(pre + trail)])
         said = self._at_array(padded, speaker, listener, heading, cfg.speech_db, rng)
@@ -321,7 +334,7 @@ class Acoustics:
         for r in self.rooms:
             if r.noise.source is not None:
                 at = self.sources[r.noise.source]
-                played = _entered(noises["programme"], n + len(_tail(self._t60(at), 0)), rng)
+                played = _entered(noises["programme"], n + self._ringing(at), rng)
                 background += self._at_array(played, at, listener, heading, r.noise.source_db,
                                              rng)
         return said, background

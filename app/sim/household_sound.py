@@ -86,8 +86,8 @@ class HouseholdSound:
             return None
         loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
         if self.microphones.cfg.array:
-            audio = sum(self.acoustics.parts_at_array(*voice, at, here, self.robot.head_yaw(),
-                                                      loops, rng))
+            audio = self.acoustics.at_array(*voice, at, here, self.robot.head_yaw(), loops,
+                                            rng)
         else:
             audio = self.acoustics.at_microphones(*voice, at, here, loops, rng)
         if self.voices_dir is not None:

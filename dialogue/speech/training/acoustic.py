@@ -42,7 +42,7 @@ from dialogue.speech.config import SpeechAdaptConfig, SpeechConfig
 from dialogue.speech.enhancer import VoiceEnhancer
 from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
-from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_within
+from dialogue.speech.training.rooms import living_room, recording, speaker_within
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import full_dictionary
 from dialogue.speech.words import spoken_words
@@ -129,12 +129,9 @@ def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
             acoustics, robot = living_room(width, depth, noise)
             speaker = speaker_within(robot, depth, cfg.distance_m, rng)
             samples, rate = synthesise(" ".join(words), voice)
+            audio = recording(acoustics, samples, rate, speaker, robot, loops, rng, cfg.array)
             if cfg.array:
-                heads = sum(acoustics.parts_at_array(samples, rate, speaker, robot,
-                                                     ROBOT_HEADING, loops, rng))
-                audio = heads[0] if beam is None else beam(heads)
-            else:
-                audio = acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
+                audio = audio[0] if beam is None else beam(audio)
             if enhancer is not None:
                 audio = enhancer.enhance(audio)
             fid = f"c{copy}_{k:05d}"

@@ -25,7 +25,7 @@ from dialogue.intent import IntentClassifier
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import SpeechRecognizer, Transcript
 from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
-from dialogue.speech.training.rooms import NOISES, ROBOT_HEADING, living_room, speaker_at
+from dialogue.speech.training.rooms import NOISES, living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
 
 DISTANCES_M = (1.0, 3.0, 5.0)
@@ -87,10 +87,7 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
         for distance in DISTANCES_M:
             for i, (samples, rate) in enumerate(voices):
                 speaker = speaker_at(robot, distance, rng)
-                audio = (sum(acoustics.parts_at_array(samples, rate, speaker, robot,
-                                                      ROBOT_HEADING, loops, rng))
-                         if array else
-                         acoustics.at_microphones(samples, rate, speaker, robot, loops, rng))
+                audio = recording(acoustics, samples, rate, speaker, robot, loops, rng, array)
                 t0 = time.perf_counter()
                 heard = recogniser.transcribe(audio, RATE)
                 yield Said(noise, distance, i, heard, time.perf_counter() - t0,

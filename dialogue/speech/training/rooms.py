@@ -4,6 +4,7 @@ of a given size, quiet or with the TV on at the far wall, the robot near the oth
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -26,6 +27,17 @@ def living_room(width: float, depth: float, noise: str, tv_db: float = TV_DB
     tv = (width / 2, depth - 0.2)
     return (Acoustics(load_robot_config().acoustics, [lounge], [], {"tv": tv}),
             (width / 2, ROBOT_FROM_WALL_M))
+
+
+def recording(acoustics: Acoustics, samples: np.ndarray, rate: int, speaker: Point,
+              robot: Point, loops: Mapping[str, np.ndarray], rng: np.random.Generator,
+              array: bool) -> np.ndarray:
+    """What the robot standing at ``robot`` (facing :data:`ROBOT_HEADING`) records of
+    ``samples`` said at ``speaker``: each of the head's microphones (``array``,
+    ``(M, n)``) or one."""
+    if array:
+        return acoustics.at_array(samples, rate, speaker, robot, ROBOT_HEADING, loops, rng)
+    return acoustics.at_microphones(samples, rate, speaker, robot, loops, rng)
 
 
 def speaker_at(robot: Point, distance: float, rng: np.random.Generator) -> Point:
