@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from collections import Counter, defaultdict
 from pathlib import Path
 from typing import Any
@@ -19,6 +20,7 @@ import numpy as np
 from app.core.checkpoint import atomic_write, atomic_write_bytes
 from app.core.events import LineFile
 from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+from app.sim.robot import wrap_angle
 from app.sim.scenario import AUDIENCES
 from behaviours.step_record import StepRecord
 from dialogue.speech.words import spoken_words
@@ -135,7 +137,20 @@ def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
         **encouragement_metrics(said, events),
         **addressee_metrics(said, events),
         "speech_wer": round(jiwer.wer(refs, [e["text"] for e in heard]), 4) if heard else None,
+        **bearing_metrics(said, heard),
     }
+
+
+def bearing_metrics(said: dict[int, dict[str, Any]], heard: list[dict[str, Any]]
+                    ) -> dict[str, float | None]:
+    """How far (degrees) the robot placed the voices of the lines it heard from where their
+    speakers stood (which only the scoring knows): the median and the 90th percentile."""
+    errors = [abs(math.degrees(wrap_angle(e["bearing"] - said[e["line"]]["bearing"])))
+              for e in heard if "bearing" in said[e["line"]]]
+    if not errors:
+        return {"bearing_error_deg_median": None, "bearing_error_deg_p90": None}
+    return {"bearing_error_deg_median": round(float(np.median(errors)), 1),
+            "bearing_error_deg_p90": round(float(np.percentile(errors, 90)), 1)}
 
 
 def encouragement_metrics(said: dict[int, dict[str, Any]], events: list[dict[str, Any]]

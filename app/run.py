@@ -176,7 +176,8 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
               else None)
     ctx = make_context(sim, config, detector, events_path=out / "events.jsonl",
                        audio_dir=out / "audio" if options.audio else None, dialogue=dialogue,
-                       questions=questions, facing=facing, recognizer=SpeechRecognizer())
+                       questions=questions, facing=facing, recognizer=SpeechRecognizer(
+                           microphones=sim.robot.cfg.acoustics.microphones))
     ctx.snapshot, ctx.contain_faults = saver, True
     if options.adapt:
         ctx.memory, ctx.memory_path = household or Memory(scenario.name), memory

@@ -33,6 +33,7 @@ import numpy as np
 from py_trees.common import Status
 
 from app.sim.hearing import HeardLine, Sound
+from app.sim.robot import wrap_angle
 from app.sim.world_types import FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
@@ -41,9 +42,19 @@ from behaviours.skill import ContextBehaviour, people_in_view
 from dialogue.addressee import AddresseeJudge
 from dialogue.feedback import FeedbackClassifier
 from dialogue.persona import Persona
+from dialogue.speech.recognizer import Transcript
 from perception.detector.yolo import Detection
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
+
+
+def voice_bearing(sound: Sound, words: Transcript) -> float:
+    """Where the voice of ``sound`` came from (rad, world frame): found in the head's
+    microphones by the beam (``words.direction``, turned by where the head faced), else
+    the one-microphone stand-in's ``sound.bearing``, else straight ahead of the head."""
+    if words.direction is not None:
+        return wrap_angle(sound.heading + words.direction)
+    return sound.bearing if sound.bearing is not None else sound.heading
 
 
 class Sense(ContextBehaviour):
@@ -96,7 +107,7 @@ class Sense(ContextBehaviour):
         judged = self.addressee.judge(words.text)
         by_name = bool(judged.cue) or self.addressee.names_robot(words.text)
         self._take(HeardLine(sound.line, sound.t, sound.person, words.text, judged.to,
-                             sound.bearing, words.confidence,
+                             voice_bearing(sound, words), words.confidence,
                              unclear=not recognizer.understood(words), snr_db=words.snr_db,
                              by_name=by_name, ended=self.now))
 

@@ -37,7 +37,7 @@ from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
-from dialogue.speech.training.corpus import DEV_FILE, knowledge_questions, tsv_lines
+from dialogue.speech.training.corpus import tuning_lines
 from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES
 from dialogue.speech.training.rooms import living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
@@ -68,8 +68,7 @@ def main() -> None:
     args = ap.parse_args()
     array = (load_robot_config().microphones.array if args.microphones is None
              else args.microphones == "array")
-    texts = (knowledge_questions() if args.lines == "questions"
-             else [text for _, text in tsv_lines(DEV_FILE)])
+    texts = tuning_lines(args.lines)
     texts = texts[:args.limit or (60 if args.lines == "questions" else len(texts))]
     refs = [" ".join(spoken_words(t)) for t in texts]
     cfg = load_speech_config(args.config)   # each power in every room, loud or quiet

@@ -5,6 +5,7 @@ decodes it only when asked to."""
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -12,9 +13,10 @@ import pytest
 from app.cli import main
 from app.core.config_files import ConfigError
 from app.sim.acoustics import RATE
+from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise, wav_bytes
-from dialogue.speech.beamformer import apply_weights, mvdr_weights
+from dialogue.speech.beamformer import apply_weights, mvdr_weights, steering, voice_direction
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
@@ -53,11 +55,11 @@ def test_the_beam_raises_the_voice_over_the_tv_by_several_decibels(recorded):
 def test_the_recogniser_decodes_the_beam_only_when_configured(recorded, tmp_path):
     said, background = recorded
     audio = said + background
-    plain = SpeechRecognizer()
+    off = tmp_path / "first.yaml"
+    off.write_text("model:\n  beamformer: false\n")
+    plain = SpeechRecognizer(load_speech_config(off))
     assert plain.transcribe(audio).text == plain.transcribe(audio[0]).text
-    cfg = tmp_path / "beam.yaml"
-    cfg.write_text("model:\n  beamformer: true\n")
-    beam = SpeechRecognizer(load_speech_config(cfg))
+    beam = SpeechRecognizer()                # shipped: the beam
     assert not np.allclose(beam.one_channel(audio), audio[0])
     assert "weather" in beam.transcribe(audio).text
 
@@ -83,3 +85,20 @@ def test_a_wav_of_the_four_microphones_is_read_whole_and_answered(tmp_path, caps
     assert main(["chat", "--audio", str(path), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert "photo" in out["heard"] and out["route"] == "photo"
+
+
+@pytest.mark.parametrize("where", [(0.0, 1.0), (-2.1, 2.1), (2.8, -1.0)])
+def test_the_beam_places_the_voice_with_the_tv_on(where):
+    """Where the voice came from, read from the beam's transfer functions, is within a few
+    degrees of where its speaker stands (1 to 3 m away, ahead, to one side, behind), not
+    where the TV is."""
+    room, robot = living_room(8.0, 7.0, "tv")
+    samples, rate = synthesise(LINE, PEOPLE_VOICES[2])
+    said, background = room.parts_at_array(samples, rate, (robot[0] + where[0],
+                                                           robot[1] + where[1]),
+                                           robot, ROBOT_HEADING, noise_loops(0),
+                                           np.random.default_rng(1))
+    steer = steering(said + background, SpeechRecognizer().enhancer, 1e-3)
+    found = voice_direction(steer, np.array(load_robot_config().acoustics.microphones))
+    true = math.atan2(where[1], where[0]) - ROBOT_HEADING
+    assert abs(math.degrees(math.atan2(math.sin(found - true), math.cos(found - true)))) < 8.0

@@ -107,3 +107,14 @@ def test_the_same_lines_said_in_a_fresh_process_sound_the_same_every_time() -> N
     said = [subprocess.run([sys.executable, "-c", SAY_TWICE], cwd=ROOT, check=True,
                            capture_output=True, text=True).stdout for _ in range(2)]
     assert said[0] == said[1] and len(set(said[0].split())) == len(PEOPLE_VOICES)
+
+
+def test_a_line_sounds_the_same_whatever_was_said_before_it() -> None:
+    """espeak-ng carries state from one sentence to the next that its API cannot reset;
+    loaded afresh for each line, the same line in the same voice is the same samples after
+    any other lines, so a test or a run does not depend on what the process said first."""
+    line = "What time is it in New York right now?"
+    first = synthesise(line, PEOPLE_VOICES[3])[0]
+    for voice in PEOPLE_VOICES:
+        synthesise("Can you sing Happy Birthday for me?", voice)
+    assert np.array_equal(synthesise(line, PEOPLE_VOICES[3])[0], first)

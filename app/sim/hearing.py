@@ -3,11 +3,13 @@
 Pepper localises a voice with its four-microphone array. Here :class:`Microphones` turns
 each line a person says (:class:`app.sim.world_types.SayEvent`, or words of encouragement) into a
 :class:`Sound`: what the microphones record while it is said (the voice carried through the
-household by :mod:`app.sim.acoustics`, over the background of the robot's room), with the
-bearing of the voice as the array estimates it (the true bearing from the robot's head to
-the speaker plus Gaussian noise, ``direction_noise_deg``). A line too faint to rise above
-the noise makes no sound at all; with ``array`` the sound holds each of the head's four
-microphones (``(4, n)``, :meth:`Acoustics.parts_at_array`). The words themselves are not
+household by :mod:`app.sim.acoustics`, over the background of the robot's room), with where
+the head faced. A line too faint to rise above the noise makes no sound at all. With
+``array`` the sound holds each of the head's four microphones (``(4, n)``,
+:meth:`Acoustics.parts_at_array`), and the robot places the voice itself from them; with one
+microphone, which cannot place it, the sound carries a stand-in bearing (the true bearing
+from the robot's head to the speaker plus Gaussian noise, ``direction_noise_deg``). The
+words themselves are not
 in a :class:`Sound`: the robot gets them only by recognising the recording
 (``dialogue/speech``). The simulator's positions only make the recording; the behaviours
 see the recording alone.
@@ -40,16 +42,19 @@ class MicrophonesConfig(StrictModel):
 class Sound:
     """A recording of one line: ``line`` numbers it within the run, ``audio`` holds the
     samples at ``rate`` Hz (one microphone's, or ``(4, n)``: each of the head's);
-    ``bearing`` (rad, world frame) is where the voice came from as the microphones
-    localised it. Whether the words are encouragement is for the robot to make out from
-    them."""
+    ``heading`` (rad, world frame) is where the robot's head faced as it recorded them (its
+    own pose and joints). ``bearing`` (rad, world frame) is where the voice came from as a
+    localiser the simulation stands in for placed it, given only with one microphone's
+    recording, which cannot place it; from the head's four the robot finds it itself.
+    Whether the words are encouragement is for the robot to make out from them."""
 
     line: int
     t: float
     person: str
-    bearing: float
+    bearing: float | None
     audio: np.ndarray
     rate: int
+    heading: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -82,7 +87,8 @@ class HeardLine:
 
 
 class Microphones:
-    """Localises voices; one per robot, seeded for reproducible runs."""
+    """Numbers the lines and, for one microphone's recordings, stands in for a localiser;
+    one per robot, seeded for reproducible runs."""
 
     def __init__(self, cfg: MicrophonesConfig, seed: int = 0) -> None:
         self.cfg = cfg

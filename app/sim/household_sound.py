@@ -9,6 +9,7 @@ scoring a run (the run logs it as ``said`` events); the robot never reads it.
 from __future__ import annotations
 
 import logging
+import math
 from collections import OrderedDict
 from pathlib import Path
 from typing import Any
@@ -81,20 +82,21 @@ class HouseholdSound:
         audible = level >= background - self.microphones.cfg.audible_below_noise_db
         self.said.append({"line": line, "person": event.person, "to": event.to, "how": kind,
                           "text": event.text, "level_db": round(level, 1),
-                          "noise_db": round(float(background), 1), "audible": bool(audible)})
+                          "noise_db": round(float(background), 1), "audible": bool(audible),
+                          "bearing": round(math.atan2(at[1] - y, at[0] - x), 3)})
         if not audible or (voice := self._voice(event.text, event.person)) is None:
             return None
         loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
-        if self.microphones.cfg.array:
-            audio = self.acoustics.at_array(*voice, at, here, self.robot.head_yaw(), loops,
-                                            rng)
+        heading, array = self.robot.head_yaw(), self.microphones.cfg.array
+        if array:
+            audio = self.acoustics.at_array(*voice, at, here, heading, loops, rng)
         else:
             audio = self.acoustics.at_microphones(*voice, at, here, loops, rng)
         if self.voices_dir is not None:
             write_wav(self.voices_dir / f"line-{line:04d}.wav",
                       np.clip(np.round(audio), -32768, 32767).astype(np.int16), RATE)
-        return Sound(line, event.t, event.person, self.microphones.bearing(here, at), audio,
-                     RATE)
+        bearing = None if array else self.microphones.bearing(here, at)
+        return Sound(line, event.t, event.person, bearing, audio, RATE, heading)
 
     def asked_again(self, line: int, t: float, closer: bool = False) -> SayEvent | None:
         """The robot asked for ``line`` again: the same words, said again after a moment,

@@ -4,8 +4,10 @@ The espeak-ng library and its voice data come inside the ``espeakng-loader`` whe
 speech needs nothing from the system. The library is called through ctypes, in its
 synchronous mode: each sentence comes back through a callback as 16-bit samples (22,050 Hz),
 and :func:`synthesise` returns them as one array. espeak-ng keeps one global state per
-process, so the library is initialised once, on first use, and voices are switched before
-each sentence.
+process, and some of it runs on from one sentence to the next where its API cannot reset it
+(the same line said twice in a row came out different), so the library is loaded, started,
+and unloaded again for each sentence (about a millisecond): a line sounds the same whatever
+the process said before it, so runs, tests and training sounds do not depend on their order.
 
 A :class:`Voice` names an espeak-ng voice (a language and accent such as ``en-us``,
 ``en``, ``en-GB-scotland`` or ``en-029``), an optional variant (``f1``-``f5`` female, ``m1``-
@@ -14,6 +16,7 @@ A :class:`Voice` names an espeak-ng voice (a language and accent such as ``en-us
 
 from __future__ import annotations
 
+import _ctypes
 import ctypes
 import io
 import threading
@@ -77,7 +80,7 @@ PEOPLE_VOICES = (
 
 
 class _Engine:
-    """The process's one espeak-ng, initialised on first use."""
+    """espeak-ng, loaded for one sentence (:func:`synthesise`)."""
 
     def __init__(self) -> None:
         self.lib = ctypes.CDLL(espeakng_loader.get_library_path())
@@ -90,7 +93,6 @@ class _Engine:
         self.chunks: list[np.ndarray] = []
         self._callback = _CALLBACK(self._collect)   # kept: the library holds a pointer to it
         self.lib.espeak_SetSynthCallback(self._callback)
-        self.lock = threading.Lock()
 
     def _collect(self, samples: Any, count: int, _events: int) -> int:
         if count > 0:
@@ -98,37 +100,37 @@ class _Engine:
         return 0
 
     def say(self, text: str, voice: Voice) -> np.ndarray:
-        with self.lock:
-            if self.lib.espeak_SetVoiceByName(voice.espeak_name.encode()) != 0:
-                raise VoiceError(f"espeak-ng has no voice {voice.espeak_name!r}")
-            self.lib.espeak_SetParameter(RATE, voice.speed, 0)
-            self.lib.espeak_SetParameter(PITCH, voice.pitch, 0)
-            data = text.encode()
-            self.chunks = []
-            self.lib.espeak_ng_SetRandSeed(ctypes.c_long(SEED))
-            if self.lib.espeak_Synth(data, len(data) + 1, 0, POSITION_CHARACTER, 0, CHARS_UTF8,
-                                     None, None) != 0:
-                raise VoiceError(f"espeak-ng could not say {text[:60]!r}")
-            self.lib.espeak_Synchronize()
-            return (np.concatenate(self.chunks) if self.chunks
-                    else np.zeros(0, dtype=np.int16)).astype(np.int16)
+        if self.lib.espeak_SetVoiceByName(voice.espeak_name.encode()) != 0:
+            raise VoiceError(f"espeak-ng has no voice {voice.espeak_name!r}")
+        self.lib.espeak_SetParameter(RATE, voice.speed, 0)
+        self.lib.espeak_SetParameter(PITCH, voice.pitch, 0)
+        data = text.encode()
+        self.lib.espeak_ng_SetRandSeed(ctypes.c_long(SEED))
+        if self.lib.espeak_Synth(data, len(data) + 1, 0, POSITION_CHARACTER, 0, CHARS_UTF8,
+                                 None, None) != 0:
+            raise VoiceError(f"espeak-ng could not say {text[:60]!r}")
+        self.lib.espeak_Synchronize()
+        return (np.concatenate(self.chunks) if self.chunks
+                else np.zeros(0, dtype=np.int16)).astype(np.int16)
+
+    def close(self) -> None:
+        """Stop espeak-ng and unload the library, so that the next load starts afresh."""
+        self.lib.espeak_Terminate()
+        _ctypes.dlclose(self.lib._handle)
 
 
-_engine: _Engine | None = None
-
-
-def engine() -> _Engine:
-    """The process's espeak-ng (started on first use)."""
-    global _engine
-    if _engine is None:
-        _engine = _Engine()
-    return _engine
+_LOCK = threading.Lock()   # one sentence at a time: the library's state is global
 
 
 def synthesise(text: str, voice: Voice) -> tuple[np.ndarray, int]:
-    """``text`` said in ``voice``: 16-bit mono samples and their rate (Hz)."""
-    e = engine()
-    return e.say(text, voice), e.rate
+    """``text`` said in ``voice``: 16-bit mono samples and their rate (Hz). The samples
+    depend on ``text`` and ``voice`` alone, not on what was said before in the process."""
+    with _LOCK:
+        e = _Engine()
+        try:
+            return e.say(text, voice), e.rate
+        finally:
+            e.close()
 
 
 def check_voice(voice: Voice) -> None:

@@ -13,16 +13,27 @@ first microphone: no positions and no direction are needed. The MVDR filter (Cap
 then passes what comes from there as the first microphone hears it and lets through as
 little of the rest as it can: the TV's direct sound, and much of the room's reverberation,
 the voice's own included. The recogniser takes the beam's single channel through the
-enhancer, as it takes one microphone's.
+enhancer, as it takes one microphone's. The same transfer functions, fitted by a plane wave
+over the microphones' known positions, say where the voice came from
+(:func:`voice_direction`).
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import torch
 
 from app.core.torch_threads import torch_threads
+from app.sim.acoustics import RATE
+from app.sim.microphone_array import SPEED_OF_SOUND
 from dialogue.speech.enhancer import HOP, N_FFT, VoiceEnhancer, log_power, spectrum
+
+# the bins a voice's direction is read from: all but the lowest, where microphones 7-10 cm
+# apart hardly differ in phase, and the edge of the band (docs/speech.md, *Where a voice
+# comes from*)
+DIRECTION_BAND_HZ = (200.0, 7900.0)
 
 
 def _covariance(weight: torch.Tensor, spec: torch.Tensor) -> torch.Tensor:
@@ -32,14 +43,23 @@ def _covariance(weight: torch.Tensor, spec: torch.Tensor) -> torch.Tensor:
     return torch.einsum("ft,mft,nft->fmn", weight.to(spec.dtype), spec, spec.conj()) / total
 
 
+@dataclass(frozen=True)
+class Steering:
+    """What the mask says of one recording of the head's microphones, per frequency bin:
+    ``steer`` (``(bins, M)``), the voice's relative transfer function to each microphone
+    (the first's is 1); ``weights`` (``(bins, M)``), the MVDR filter towards it."""
+
+    steer: torch.Tensor
+    weights: torch.Tensor
+
+
 @torch.no_grad()
-def mvdr_weights(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float
-                 ) -> torch.Tensor:
-    """The beam's weights (``(bins, M)``, complex) for ``channels`` (``(M, n)`` at 16 kHz,
-    at least one frame): the MVDR filter, the first microphone the reference, at whatever
-    the enhancer's mask takes for the voice; the background's covariance loaded with
-    ``loading`` times its mean power on the diagonal (so that a frequency the mask left
-    nearly empty is not inverted wildly)."""
+def steering(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float) -> Steering:
+    """The voice's :class:`Steering` in ``channels`` (``(M, n)`` at 16 kHz, at least one
+    frame): the MVDR filter, the first microphone the reference, at whatever the enhancer's
+    mask takes for the voice; the background's covariance loaded with ``loading`` times its
+    mean power on the diagonal (so that a frequency the mask left nearly empty is not
+    inverted wildly)."""
     x = torch.as_tensor(np.asarray(channels, dtype=np.float32))
     with torch_threads(1):
         spec = spectrum(x)                                          # (M, bins, frames)
@@ -56,7 +76,36 @@ def mvdr_weights(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float
         steer = chol @ torch.linalg.eigh(whitened)[1][:, :, -1:]       # (bins, M, 1)
         steer = steer / steer[:, :1]                                      # the first microphone's
         towards = torch.linalg.solve(noise, steer)
-        return (towards / (steer.mH @ towards))[:, :, 0]
+        weights = (towards / (steer.mH @ towards))[:, :, 0]
+    return Steering(steer[:, :, 0], weights)
+
+
+def mvdr_weights(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float
+                 ) -> torch.Tensor:
+    """The beam's weights (``(bins, M)``, complex) for ``channels``: :func:`steering`'s
+    MVDR filter."""
+    return steering(channels, enhancer, loading).weights
+
+
+def voice_direction(steer: Steering, positions: np.ndarray) -> float:
+    """Where the voice came from (rad in the head's frame: 0 straight ahead, positive to
+    the left) for microphones at ``positions`` (``(M, 2)``, m in that frame): the azimuth,
+    searched by whole degrees, whose plane wave best fits the voice's transfer functions over
+    :data:`DIRECTION_BAND_HZ`, each bin counted alike (as GCC-PHAT weighs them: the loud low
+    bins, where four microphones a few centimetres apart hardly differ in phase, do not
+    outvote the rest). It works on the mask's estimate of the voice, not on the raw
+    recording, so the TV does not pull it towards itself."""
+    freqs = np.fft.rfftfreq(N_FFT, 1.0 / RATE)
+    band = (freqs >= DIRECTION_BAND_HZ[0]) & (freqs <= DIRECTION_BAND_HZ[1])
+    azimuths = np.radians(np.arange(-180.0, 180.0, 1.0))
+    towards = np.stack([np.cos(azimuths), np.sin(azimuths)], axis=1)        # (A, 2)
+    delays = -(towards @ np.asarray(positions, dtype=np.float64).T) / SPEED_OF_SOUND
+    delays -= delays[:, :1]                                                 # behind the first
+    plane = np.exp(-2j * np.pi * freqs[band, None, None] * delays[None])    # (F, A, M)
+    h = steer.steer.numpy()[band]                                           # (F, M)
+    h = h / np.linalg.norm(h, axis=1, keepdims=True).clip(1e-12)
+    fit = (np.abs(np.einsum("fam,fm->fa", plane.conj(), h)) ** 2).sum(axis=0)   # (A,)
+    return float(azimuths[int(np.argmax(fit))])
 
 
 def apply_weights(weights: torch.Tensor, channels: np.ndarray) -> np.ndarray:

