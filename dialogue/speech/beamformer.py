@@ -28,6 +28,8 @@ import torch
 from app.core.torch_threads import torch_threads
 from app.sim.acoustics import RATE
 from app.sim.microphone_array import SPEED_OF_SOUND
+from dialogue.speech.config import DereverberationConfig
+from dialogue.speech.dereverberation import dereverberate
 from dialogue.speech.enhancer import HOP, N_FFT, VoiceEnhancer, log_power, spectrum
 
 # the bins a voice's direction is read from: all but the lowest, where microphones 7-10 cm
@@ -116,9 +118,13 @@ def apply_weights(weights: torch.Tensor, channels: np.ndarray) -> np.ndarray:
     return torch.istft(beam, N_FFT, HOP, window=window, length=x.shape[1]).numpy()
 
 
-def beamform(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float) -> np.ndarray:
+def beamform(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float,
+             dereverberation: DereverberationConfig | None = None) -> np.ndarray:
     """One channel (16 kHz floats) from ``channels`` (``(M, n)``): the MVDR beam of
-    :func:`mvdr_weights` (the first microphone as it is when under one frame long)."""
+    :func:`mvdr_weights` (the first microphone as it is when under one frame long), after
+    the late reverberation is taken out when ``dereverberation`` says how."""
+    if dereverberation is not None:
+        channels = dereverberate(channels, dereverberation)
     if np.shape(channels)[1] < N_FFT:
         return np.asarray(channels[0], dtype=np.float64)
     return apply_weights(mvdr_weights(channels, enhancer, loading), channels)

@@ -22,6 +22,17 @@ def from_root(path: Path) -> Path:
     return path if path.is_absolute() else REPO_ROOT / path
 
 
+class DereverberationConfig(StrictModel):
+    """Weighted prediction error over the head's microphones (dialogue/speech/
+    dereverberation.py): how many past frames predict the late reverberation, how many
+    recent ones are left out of the prediction, and how many rounds re-estimate the voice's
+    power."""
+
+    taps: int = Field(ge=1, le=40)
+    delay: int = Field(ge=1, le=10)
+    iterations: int = Field(ge=1, le=10)
+
+
 class SpeechModelConfig(StrictModel):
     """The model files the recogniser loads and pocketsphinx's language weight."""
 
@@ -34,6 +45,7 @@ class SpeechModelConfig(StrictModel):
     language_weight: float = Field(gt=0, le=50)
     beamformer: bool              # decode the head's microphones through the MVDR beam
     beamformer_loading: float = Field(ge=0, le=10)
+    dereverberation: DereverberationConfig | None   # None: the recordings as they are
 
     @model_validator(mode="after")
     def _beam_needs_mask(self) -> Self:

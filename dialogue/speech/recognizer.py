@@ -23,6 +23,7 @@ import numpy as np
 from app.sim.acoustics import RATE, REFERENCE_DB, resampled
 from dialogue.speech.beamformer import Steering, apply_weights, steering, voice_direction
 from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
+from dialogue.speech.dereverberation import dereverberate
 from dialogue.speech.enhancer import N_FFT
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
@@ -124,8 +125,7 @@ class SpeechRecognizer:
         taken out what is not a household voice."""
         channels = np.stack([resampled(c, rate) for c in np.atleast_2d(samples)])
         heard_snr = loudness(channels[0])[1]
-        steer = self._steering(channels)
-        x = channels[0] if steer is None else apply_weights(steer.weights, channels)
+        x, steer = self._front(channels)
         direction = (None if steer is None or self.microphones is None
                      else voice_direction(steer, self.microphones))
         if self.enhancer is not None:
@@ -156,11 +156,21 @@ class SpeechRecognizer:
             return None
         return steering(channels, self.enhancer, self.cfg.model.beamformer_loading)
 
-    def one_channel(self, channels: np.ndarray) -> np.ndarray:
-        """What is decoded of the head's microphones (``(M, n)`` at 16 kHz): the
-        beamformer's output (``model.beamformer``), else the first microphone."""
+    def _front(self, channels: np.ndarray) -> tuple[np.ndarray, Steering | None]:
+        """The one channel decoded of ``channels`` (``(M, n)`` at 16 kHz; see
+        :meth:`one_channel`) and the beam's steering, when there is a beam."""
+        m = self.cfg.model
+        if len(channels) > 1 and m.dereverberation is not None:
+            channels = dereverberate(channels, m.dereverberation)
         steer = self._steering(channels)
-        return channels[0] if steer is None else apply_weights(steer.weights, channels)
+        return (channels[0] if steer is None else apply_weights(steer.weights, channels)),\
+            steer
+
+    def one_channel(self, channels: np.ndarray) -> np.ndarray:
+        """What is decoded of the head's microphones (``(M, n)`` at 16 kHz): their late
+        reverberation taken out (``model.dereverberation``), then the beamformer's output
+        (``model.beamformer``), else the first microphone."""
+        return self._front(channels)[0]
 
     def mask_power(self, samples: np.ndarray) -> float:
         """The power the enhancer's mask is raised to for ``samples`` (16 kHz): the

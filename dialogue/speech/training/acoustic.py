@@ -102,13 +102,14 @@ def adaptation_enhancer(cfg: SpeechConfig) -> VoiceEnhancer | None:
 
 def adaptation_beam(cfg: SpeechConfig) -> Beam | None:
     """The beam the acoustic model's recordings of the head's microphones are taken
-    through: the recogniser's, when ``adapt.array`` records them all and
-    ``model.beamformer`` decodes the beam (else the first microphone is taken)."""
+    through: the recogniser's (its dereverberation included), when ``adapt.array`` records
+    them all and ``model.beamformer`` decodes the beam (else the first microphone is
+    taken)."""
     m = cfg.model
     if not (cfg.adapt.array and m.beamformer) or m.enhancer is None:
         return None
     return partial(beamform, enhancer=VoiceEnhancer(m.path(m.enhancer)),
-                   loading=m.beamformer_loading)
+                   loading=m.beamformer_loading, dereverberation=m.dereverberation)
 
 
 def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
