@@ -118,13 +118,22 @@ def apply_weights(weights: torch.Tensor, channels: np.ndarray) -> np.ndarray:
     return torch.istft(beam, N_FFT, HOP, window=window, length=x.shape[1]).numpy()
 
 
-def beamform(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float,
-             dereverberation: DereverberationConfig | None = None) -> np.ndarray:
-    """One channel (16 kHz floats) from ``channels`` (``(M, n)``): the MVDR beam of
-    :func:`mvdr_weights` (the first microphone as it is when under one frame long), after
-    the late reverberation is taken out when ``dereverberation`` says how."""
+def front_end(channels: np.ndarray, enhancer: VoiceEnhancer | None, loading: float,
+              dereverberation: DereverberationConfig | None = None
+              ) -> tuple[np.ndarray, Steering | None]:
+    """One channel (16 kHz floats) from ``channels`` (``(M, n)``) and the beam's
+    :class:`Steering`: the late reverberation taken out first when ``dereverberation`` says
+    how, then the MVDR beam that ``enhancer``'s mask steers; without an enhancer, or under
+    one frame long, the first microphone as it is (and no steering)."""
     if dereverberation is not None:
         channels = dereverberate(channels, dereverberation)
-    if np.shape(channels)[1] < N_FFT:
-        return np.asarray(channels[0], dtype=np.float64)
-    return apply_weights(mvdr_weights(channels, enhancer, loading), channels)
+    if enhancer is None or np.shape(channels)[1] < N_FFT:
+        return np.asarray(channels[0], dtype=np.float64), None
+    steer = steering(channels, enhancer, loading)
+    return apply_weights(steer.weights, channels), steer
+
+
+def beamform(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float,
+             dereverberation: DereverberationConfig | None = None) -> np.ndarray:
+    """The one channel of :func:`front_end`."""
+    return front_end(channels, enhancer, loading, dereverberation)[0]

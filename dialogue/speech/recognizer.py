@@ -21,10 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from app.sim.acoustics import RATE, REFERENCE_DB, resampled
-from dialogue.speech.beamformer import Steering, apply_weights, steering, voice_direction
+from dialogue.speech.beamformer import Steering, front_end, voice_direction
 from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
-from dialogue.speech.dereverberation import dereverberate
-from dialogue.speech.enhancer import N_FFT
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
@@ -147,24 +145,14 @@ class SpeechRecognizer:
         confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
         return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr, direction)
 
-    def _steering(self, channels: np.ndarray) -> Steering | None:
-        """The beam at the voice in the head's microphones (``(M, n)`` at 16 kHz), when
-        the recogniser forms one (``model.beamformer``) and there is a frame to form it
-        on."""
-        if (len(channels) == 1 or not self.cfg.model.beamformer or self.enhancer is None
-                or channels.shape[1] < N_FFT):
-            return None
-        return steering(channels, self.enhancer, self.cfg.model.beamformer_loading)
-
     def _front(self, channels: np.ndarray) -> tuple[np.ndarray, Steering | None]:
         """The one channel decoded of ``channels`` (``(M, n)`` at 16 kHz; see
         :meth:`one_channel`) and the beam's steering, when there is a beam."""
+        if len(channels) == 1:
+            return channels[0], None
         m = self.cfg.model
-        if len(channels) > 1 and m.dereverberation is not None:
-            channels = dereverberate(channels, m.dereverberation)
-        steer = self._steering(channels)
-        return (channels[0] if steer is None else apply_weights(steer.weights, channels)),\
-            steer
+        return front_end(channels, self.enhancer if m.beamformer else None,
+                         m.beamformer_loading, m.dereverberation)
 
     def one_channel(self, channels: np.ndarray) -> np.ndarray:
         """What is decoded of the head's microphones (``(M, n)`` at 16 kHz): their late
