@@ -54,7 +54,7 @@ class Sound:
     bearing: float | None
     audio: np.ndarray
     rate: int
-    heading: float = 0.0
+    heading: float
 
 
 @dataclass(frozen=True)
