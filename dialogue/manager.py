@@ -22,7 +22,7 @@ from dialogue.persona import Persona
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Action, Answer, DialogueError
 from dialogue.qa.bot import QABot
-from dialogue.qa.places import TIME_WORDS
+from dialogue.qa.places import TIME_WORDS, place_lost
 from dialogue.qa.text import STOPWORDS, content_words, normalise
 
 log = logging.getLogger("companion.dialogue")
@@ -31,6 +31,7 @@ Mood = Literal["positive", "negative"]
 MAX_CHARS = 500  # longer input is cut here
 HISTORY = 10  # turns kept in the context
 FOLLOWABLE = ("time", "weather", "news", "information", "related_topics", "map")
+ABOUT_A_PLACE = ("time", "weather")  # routes whose answer depends on the place asked about
 FOLLOW_UP = re.compile(r"^(?:and|what about|how about|and what about|and how about)\b", re.I)
 MORE = re.compile(r"^(?:tell me |say )?(?:some )?more\b", re.I)  # after an answer about a topic
 INTRO = re.compile(r"\b(?:my name is|my name's|call me|i am called|i'm called)\s+"
@@ -131,8 +132,9 @@ class DialogueManager:
         ``context`` defaults to the manager's own. A transcript of speech whose
         ``confidence`` is under ``min_confidence`` is not acted on: the robot asks for it
         again (route ``say_again``), and says it cannot make it out when the line after
-        that is unclear too (``not_understood``). Never raises for any input text; a bad ``mood`` or
-        ``context.mode`` is a :class:`DialogueError`."""
+        that is unclear too (``not_understood``); so is a time or weather question whose
+        place was lost (:func:`dialogue.qa.places.place_lost`). Never raises for any input
+        text; a bad ``mood`` or ``context.mode`` is a :class:`DialogueError`."""
         mood = ("positive" if mood else "negative") if isinstance(mood, bool) else mood
         if mood not in ("positive", "negative"):
             raise DialogueError(f"mood must be 'positive' or 'negative', got {mood!r}")
@@ -184,6 +186,8 @@ class DialogueManager:
             if not content_words(said):
                 return Reply(greeting, "introduction", mood=mood)
         route = self._route(said, ctx)
+        if route in ABOUT_A_PLACE and place_lost(said):
+            return self._unsure(mood, ctx)   # not the home's time for a city it missed
         if route == CHITCHAT:
             reply = self._chitchat(said, mood, ctx)
         else:

@@ -3,6 +3,7 @@ adaptation run with SphinxTrain's real tools, and the recogniser loading its res
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from dialogue.speech.training.acoustic import (
     adapt_acoustic_model,
     adaptation_beam,
     adaptation_enhancer,
+    adaptation_front_end,
     adaptation_lines,
     record,
 )
@@ -27,6 +29,8 @@ from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import evaluation_words
 from dialogue.speech.wav import read_wav
 from dialogue.speech.words import spoken_words
+
+ROOT = Path(__file__).resolve().parents[1]
 
 WHEEL = Path(get_model_path()) / "en-us" / "en-us"
 
@@ -123,6 +127,11 @@ def test_the_adaptation_can_record_the_heads_microphones_and_take_them_through_t
     assert adaptation_beam(cfg) is not None
     one = cfg.model_copy(update={"adapt": cfg.adapt.model_copy(update={"array": False})})
     assert adaptation_beam(one) is None
+    # what the recordings passed through is recorded with the model, the shipped one's too
+    assert adaptation_front_end(cfg)["dereverberation"] == cfg.model.dereverberation.model_dump()
+    assert adaptation_front_end(one)["beam"] is False
+    shipped = json.loads((ROOT / "assets/models/speech/acoustic/adaptation.json").read_text())
+    assert shipped["front_end"] == adaptation_front_end(cfg)
     adapt = cfg.adapt.model_copy(update={"copies": 1, "tv_share": 1.0, "array": True})
     lines = [["what", "time", "is", "it"]]
     heard: list[np.ndarray] = []

@@ -85,6 +85,20 @@ def test_an_unsure_transcript_is_asked_for_again_once():
     assert manager.respond("what time is it", confidence=0.9).route == "time"
 
 
+def test_a_question_whose_place_was_lost_is_asked_for_again():
+    """"What time is it in New York right now?" heard without its city is not answered
+    with the home's time; a question that names no place, or a room's, still is."""
+    for lost in ("what time is it in right now", "what time is it in your right now",
+                 "how cold is it going to be in tomorrow morning"):
+        assert DialogueManager().respond(lost, confidence=0.5).route == "say_again", lost
+    manager = DialogueManager()
+    new_york = manager.respond("what time is it in new york right now", confidence=0.5)
+    assert new_york.route == "time" and "New York" in new_york.text
+    assert manager.respond("what time is it right now", confidence=0.5).route == "time"
+    assert manager.respond("will it rain in the afternoon today").route == "weather"
+    assert manager.respond("which room is the sofa in right now").route == "map"
+
+
 def write_wav(path, samples: np.ndarray, rate: int, width: int = 2) -> None:
     with wave.open(str(path), "wb") as w:
         w.setnchannels(1)

@@ -14,6 +14,9 @@ PREPOSITIONS = frozenset({"in", "at", "for", "of", "to", "near", "from", "about"
 LOCATIVE = frozenset({"in", "at", "for", "near", "from"})  # "... in Narnia": a place's name
 TIME_WORDS = word_set("""today tomorrow tonight now currently morning afternoon evening night
 week weekend month year moment right later soon there here next this yesterday""")
+# Words that cannot follow a place-taking "in": "what time is it in right now" lost its place
+NO_PLACE_AFTER_IN = word_set("now right today tonight tomorrow")
+DETERMINERS = word_set("the a an my your his her its our their this that")
 # City names that are also everyday English words: only taken after "in", "at", ...
 COMMON = word_set("""time of nice best mobile reading split sale bath male orange batman hope
 page marks deal university""")
@@ -108,9 +111,7 @@ def find_place(text: str) -> tuple[Place | None, str | None]:
     phrase after ``in``/``at``/``for``/``near``/``from`` ("in Narnia"); "going to rain" or
     "sit in the garden" name no place.
     """
-    raw = re.findall(r"[^\W_]+(?:['\u2019][^\W_]+)?", text)
-    pairs = [(normalise(w), w) for w in raw]
-    pairs = [(n, w) for n, w in pairs if n]
+    pairs = _pairs(text)
     words = [n for n, _ in pairs]
     unknown = None
     for i, w in enumerate(words):
@@ -140,3 +141,27 @@ def find_place(text: str) -> tuple[Place | None, str | None]:
             if place and (pairs[i][1][:1].isupper() or place.population >= 1_000_000):
                 return place, None
     return None, unknown
+
+
+def place_lost(text: str) -> bool:
+    """Whether ``text``, a question about a place (the time or the weather there), lost the
+    place's name: an "in" straight before "right now", "today", ... ("what time is it in
+    right now"), or with only a determiner between ("in your right now"), where the
+    recogniser left out a name it could not make out or took it for a little word. One
+    that names no place ("what time is it right now") has lost nothing. (In other
+    questions such an "in" can end a clause: "which room is the cat in right now".)"""
+    words = [n for n, _ in _pairs(text)]
+    for i, w in enumerate(words[:-1]):
+        rest = words[i + 1:i + 3]
+        if rest[0] in DETERMINERS:   # "in your right now": a determiner with no noun
+            rest = rest[1:]
+        if w == "in" and rest and rest[0] in NO_PLACE_AFTER_IN:
+            return True
+    return False
+
+
+def _pairs(text: str) -> list[tuple[str, str]]:
+    """Each word of ``text``, normalised and as written (words that normalise to nothing
+    left out)."""
+    raw = re.findall(r"[^\W_]+(?:['\u2019][^\W_]+)?", text)
+    return [(n, w) for n, w in ((normalise(w), w) for w in raw) if n]

@@ -10,9 +10,9 @@ recording's own frames some time back (``taps`` frames, leaving out the ``delay`
 recent so that the direct sound and early reflections stay) and subtracts it, the
 prediction weighted by the inverse of the voice's power as it is re-estimated each round
 (``iterations``). nara_wpe's implementation does the work, one frequency at a time
-(``wpe_v8``: the same output as its batched form, in a third of the time and without the
-batched form's 400 MB for ten seconds of four microphones); this module only takes the
-recording to its short-time spectra and back.
+(``wpe_v8``: its batched form's output up to rounding, in a third of the time, and without
+the 400 MB the batched form holds for ten seconds of four microphones); this module only
+takes the recording to its short-time spectra and back.
 """
 
 from __future__ import annotations

@@ -106,10 +106,26 @@ def adaptation_beam(cfg: SpeechConfig) -> Beam | None:
     them all and ``model.beamformer`` decodes the beam (else the first microphone is
     taken)."""
     m = cfg.model
-    if not (cfg.adapt.array and m.beamformer) or m.enhancer is None:
+    if not _through_beam(cfg):
         return None
     return partial(beamform, enhancer=VoiceEnhancer(m.path(m.enhancer)),
                    loading=m.beamformer_loading, dereverberation=m.dereverberation)
+
+
+def _through_beam(cfg: SpeechConfig) -> bool:
+    return bool(cfg.adapt.array and cfg.model.beamformer and cfg.model.enhancer is not None)
+
+
+def adaptation_front_end(cfg: SpeechConfig) -> dict[str, object]:
+    """What the recordings pass through before the statistics, as ``adaptation.json``
+    records it: the beam (with its dereverberation and the enhancer steering it) or not."""
+    m = cfg.model
+    enhancer = None if m.enhancer is None else str(m.enhancer)
+    if not _through_beam(cfg):
+        return {"beam": False, "enhancer": enhancer if cfg.adapt.enhanced else None}
+    dereverberation = None if m.dereverberation is None else m.dereverberation.model_dump()
+    return {"beam": True, "enhancer": enhancer, "beamformer_loading": m.beamformer_loading,
+            "dereverberation": dereverberation}
 
 
 def record(lines: list[list[str]], cfg: SpeechAdaptConfig, folder: Path,
@@ -197,11 +213,12 @@ def _iteration(cfg: SpeechAdaptConfig, base: Path, prior: Path, out: Path, work:
 def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
                          out_dir: Path, enhancer: VoiceEnhancer | None = None,
                          progress: Callable[[str], None] | None = None,
-                         beam: Beam | None = None) -> dict[str, object]:
+                         beam: Beam | None = None,
+                         front_end: dict[str, object] | None = None) -> dict[str, object]:
     """Adapt the wheel's en-US model to recordings (taken through ``beam`` and
     ``enhancer`` when given, as the recogniser will take what it hears) and write what the
     recogniser loads to ``out_dir`` (with ``adaptation.json``, the figures for the model
-    card)."""
+    card, and ``front_end``, what the recordings passed through)."""
     say = progress or (lambda _: None)
     source = wheel_model_dir() / "en-us"
     dictionary = wheel_model_dir() / "cmudict-en-us.dict"
@@ -230,7 +247,8 @@ def adapt_acoustic_model(cfg: SpeechAdaptConfig, excluded: set[tuple[str, ...]],
         for name in ACOUSTIC_FILES:
             atomic_write_bytes(out_dir / name, (prior / name).read_bytes())
     figures = {"lines": len(lines), "recordings": len(ids), "not_aligned": ignored,
-               **cfg.model_dump(mode="json", exclude={"sphinxtrain_dir"})}
+               **cfg.model_dump(mode="json", exclude={"sphinxtrain_dir"}),
+               "front_end": front_end}
     atomic_write_bytes(out_dir / "adaptation.json",
                        (json.dumps(figures, indent=2) + "\n").encode())
     return figures

@@ -61,6 +61,7 @@ def run_train(args: argparse.Namespace) -> int:
         adapt_acoustic_model,
         adaptation_beam,
         adaptation_enhancer,
+        adaptation_front_end,
         adaptation_lines,
     )
     from dialogue.speech.training.enhancer import train_enhancer
@@ -80,7 +81,7 @@ def run_train(args: argparse.Namespace) -> int:
     if args.only in (None, "acoustic"):
         figures["acoustic_model"] = adapt_acoustic_model(
             cfg.adapt, evaluation_words(), args.out / "acoustic", adaptation_enhancer(cfg),
-            progress=print, beam=adaptation_beam(cfg))
+            progress=print, beam=adaptation_beam(cfg), front_end=adaptation_front_end(cfg))
     print(json.dumps(figures, indent=2))
     return 0
 
