@@ -151,11 +151,11 @@ def place_lost(text: str) -> bool:
     that names no place ("what time is it right now") has lost nothing. (In other
     questions such an "in" can end a clause: "which room is the cat in right now".)"""
     words = [n for n, _ in _pairs(text)]
-    for i, w in enumerate(words[:-1]):
-        rest = words[i + 1:i + 3]
-        if rest[0] in DETERMINERS:   # "in your right now": a determiner with no noun
-            rest = rest[1:]
-        if w == "in" and rest and rest[0] in NO_PLACE_AFTER_IN:
+    for i in (i for i, w in enumerate(words) if w == "in"):
+        after = words[i + 1:i + 3]
+        if after and after[0] in DETERMINERS:   # "in your right now": no noun after "your"
+            after = after[1:]
+        if after and after[0] in NO_PLACE_AFTER_IN:
             return True
     return False
 
