@@ -40,7 +40,6 @@ from pathlib import Path
 
 import numpy as np
 
-from app.sim.robot_config import load_robot_config
 from app.sim.voices import PEOPLE_VOICES
 from behaviours.config import load_behaviour_config
 from dialogue.intent import IntentClassifier
@@ -48,7 +47,7 @@ from dialogue.qa.text import STOPWORDS
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import tuning_lines
-from dialogue.speech.training.evaluate import VOICES, said_in_rooms
+from dialogue.speech.training.evaluate import VOICES, heads_microphones, said_in_rooms
 from dialogue.speech.words import spoken_words
 
 THRESHOLDS = np.round(np.arange(0.0, 0.501, 0.025), 3)
@@ -83,8 +82,7 @@ def main() -> None:
     ap.add_argument("--microphones", choices=("one", "array"), default=None,
                     help="one microphone or the head's four (default: as robot.yaml says)")
     args = ap.parse_args()
-    array = (load_robot_config().microphones.array if args.microphones is None
-             else args.microphones == "array")
+    array = heads_microphones(args.microphones)
     texts = tuning_lines(args.lines)[:args.limit]
     router, cfg = IntentClassifier.default(), load_speech_config(args.config)
     recogniser = SpeechRecognizer(cfg)

@@ -31,14 +31,13 @@ import jiwer
 import numpy as np
 
 from app.sim.acoustics import RATE
-from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import tuning_lines
-from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES
+from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES, heads_microphones
 from dialogue.speech.training.rooms import living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
 
@@ -66,8 +65,7 @@ def main() -> None:
                     help="one microphone or the head's four, as in eval asr (default: as "
                          "robot.yaml's microphones.array says)")
     args = ap.parse_args()
-    array = (load_robot_config().microphones.array if args.microphones is None
-             else args.microphones == "array")
+    array = heads_microphones(args.microphones)
     texts = tuning_lines(args.lines)
     texts = texts[:args.limit or (60 if args.lines == "questions" else len(texts))]
     refs = [" ".join(spoken_words(t)) for t in texts]

@@ -16,7 +16,7 @@ from app.sim.acoustics import RATE
 from app.sim.robot_config import load_robot_config
 from app.sim.soundscape import noise_loops
 from app.sim.voices import PEOPLE_VOICES, synthesise, wav_bytes
-from dialogue.speech.beamformer import apply_weights, mvdr_weights, steering, voice_direction
+from dialogue.speech.beamformer import apply_weights, steering, voice_direction
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
@@ -41,7 +41,7 @@ def snr_db(voice: np.ndarray, other: np.ndarray) -> float:
 def test_the_beam_raises_the_voice_over_the_tv_by_several_decibels(recorded):
     said, background = recorded
     enhancer = SpeechRecognizer().enhancer
-    weights = mvdr_weights(said + background, enhancer, 1e-3)
+    weights = steering(said + background, enhancer, 1e-3).weights
     beam_voice, beam_rest = apply_weights(weights, said), apply_weights(weights, background)
     one = snr_db(said[0], background[0])
     # the first microphone alone, and through the beam (as the recogniser would take it);

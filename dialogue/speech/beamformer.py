@@ -82,13 +82,6 @@ def steering(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float) -> S
     return Steering(steer[:, :, 0], weights)
 
 
-def mvdr_weights(channels: np.ndarray, enhancer: VoiceEnhancer, loading: float
-                 ) -> torch.Tensor:
-    """The beam's weights (``(bins, M)``, complex) for ``channels``: :func:`steering`'s
-    MVDR filter."""
-    return steering(channels, enhancer, loading).weights
-
-
 def voice_direction(steer: Steering, positions: np.ndarray) -> float:
     """Where the voice came from (rad in the head's frame: 0 straight ahead, positive to
     the left) for microphones at ``positions`` (``(M, 2)``, m in that frame): the azimuth,

@@ -89,11 +89,11 @@ def run_train(args: argparse.Namespace) -> int:
 def run_eval(args: argparse.Namespace) -> int:
     """``companion eval asr``: the table, and whether it meets the bars."""
     from dialogue.speech.config import load_speech_config
-    from dialogue.speech.training.evaluate import evaluate_asr
+    from dialogue.speech.training.evaluate import evaluate_asr, heads_microphones
 
     result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
                           unseen_voices=args.unseen_voices,
-                          array=None if args.microphones is None else args.microphones == "array")
+                          array=heads_microphones(args.microphones))
     if args.json:
         print(json.dumps(result))
         return 0

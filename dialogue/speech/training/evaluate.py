@@ -94,6 +94,12 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
                            audio.shape[-1] / RATE)
 
 
+def heads_microphones(choice: str | None = None) -> bool:
+    """Whether recordings take each of the head's microphones, for a ``--microphones
+    one|array`` choice; None: as robot.yaml's ``microphones.array`` says."""
+    return load_robot_config().microphones.array if choice is None else choice == "array"
+
+
 def evaluate_asr(limit: int | None = None, seed: int = 0,
                  progress: Callable[[str], None] | None = None,
                  cfg: SpeechConfig | None = None, unseen_voices: bool = False,
@@ -104,7 +110,7 @@ def evaluate_asr(limit: int | None = None, seed: int = 0,
     ``array`` records all the head's microphones (:func:`said_in_rooms`; default: as the
     robot's ``microphones.array`` says)."""
     if array is None:
-        array = load_robot_config().microphones.array
+        array = heads_microphones()
     speakers = UNSEEN_VOICES if unseen_voices else PEOPLE_VOICES[:VOICES]
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
