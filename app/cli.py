@@ -12,11 +12,11 @@ import importlib
 import sys
 
 from app import __version__
-from app.core.errors import UserError
-from app.core.signals import exit_status, signal_name, terminable
+from core.errors import UserError
+from core.signals import exit_status, signal_name, terminable
 
-DOMAINS = ["app.mind.policy.training.cli", "app.mind.preferences.evaluation.cli",
-           "app.mind.preferences.cli",
+DOMAINS = ["mind.policy.training.cli", "mind.preferences.evaluation.cli",
+           "mind.preferences.cli",
            "dialogue.cli", "dialogue.style.training.cli", "dialogue.style.training.mood_cli",
            "dialogue.chat.training.cli",
            "dialogue.speech.training.cli",

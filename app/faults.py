@@ -18,10 +18,10 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from app.core.config_files import StrictModel, read_yaml, validate
-from app.core.events import EventLog
-from app.sim.robot import JOINT_NAMES
-from app.sim.simulation import Simulation
+from core.config_files import StrictModel, read_yaml, validate
+from core.events import EventLog
+from sim.robot import JOINT_NAMES
+from sim.simulation import Simulation
 
 Kind = Literal["camera_black", "camera_frozen", "detector_error", "detector_timeout",
                "dock_blocked", "person_vanishes", "joint_failure", "battery_drop",

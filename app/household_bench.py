@@ -22,10 +22,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.errors import UserError
-from app.core.paths import WORLDS_DIR
 from app.report import ANSWERED_WITHIN_S, answer_latencies
+from core.checkpoint import atomic_write_bytes
+from core.errors import UserError
+from core.paths import WORLDS_DIR
 
 WORLDS = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
 LONG_WORLD = "nursing_home"

@@ -17,13 +17,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from app.core.checkpoint import atomic_write, atomic_write_bytes
-from app.core.events import LineFile
-from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
-from app.sim.robot import wrap_angle
-from app.sim.scenario import AUDIENCES
 from behaviours.step_record import StepRecord
+from core.checkpoint import atomic_write, atomic_write_bytes
+from core.events import LineFile
 from dialogue.speech.words import spoken_words
+from mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
+from robot.geometry import wrap_angle
+from robot.percepts import AUDIENCES
 
 TIMELINE_COLUMNS = ["t", "action", "relieving", *DRIVES, *(f"m_{m}" for m in MOTIVATIONS),
                     *STIMULI, "mood", "mood_positive", "secure"]

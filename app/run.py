@@ -25,26 +25,23 @@ import numpy as np
 import yaml
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.profiling import Profile
-from app.core.run_folder import RunFolderError, claim, release
-from app.core.signals import shielded, signal_name, terminable
 from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
-from app.mind.personality import load_personality
-from app.mind.policy.agent import DQNPolicy
-from app.mind.policy.config import DEFAULT_POLICY
-from app.mind.preferences.memory import Memory, load_memory
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
-from app.sim.dances import song_names
-from app.sim.scenario import Scenario, load_scenario
-from app.sim.simulation import Simulation
 from app.tablet.record import ViewFrames
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, make_context
 from behaviours.ticking import SimulationTree
 from behaviours.tree import build_tree, render
+from core.checkpoint import atomic_write_bytes
+from core.profiling import Profile
+from core.run_folder import RunFolderError, claim, release
+from core.signals import shielded, signal_name, terminable
 from dialogue.factory import household_dialogue
 from dialogue.speech.recognizer import SpeechRecognizer
+from mind.personality import load_personality
+from mind.policy.agent import DQNPolicy
+from mind.policy.config import DEFAULT_POLICY
+from mind.preferences.memory import Memory, load_memory
 from perception.detector.config import load_detector_config
 from perception.detector.yolo import YoloDetector
 from perception.facing.config import DEFAULT_FACING_MODEL
@@ -53,6 +50,9 @@ from perception.vqg.generator import DEFAULT_VQG_MODEL, VqgQuestionGenerator
 from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import load_vqg_data_config
 from perception.vqg.training.household import check_occasion, household_scene, judge_question
+from robot.dances import song_names
+from sim.scenario import Scenario, load_scenario
+from sim.simulation import Simulation
 
 RESOURCE_PERIOD_S = 300.0   # simulated seconds between two `resources` events
 
@@ -124,8 +124,8 @@ class RunOptions:
     household memory file ``memory`` (saved as it learns) or, without one, from nothing.
     ``threads``: the detector's CPU threads (None: the detector config's), and the cores the
     run may use: with two or more a helper process renders part of each camera frame
-    (:class:`~app.sim.split_render.SplitRenderer`; None: the machine's cores). ``profile``:
-    time the run's parts (:mod:`app.core.profiling`). ``tablet``: an
+    (:class:`~sim.split_render.SplitRenderer`; None: the machine's cores). ``profile``:
+    time the run's parts (:mod:`core.profiling`). ``tablet``: an
     :class:`app.tablet.run_link.RunTablet` that a web server feeds during the run.
     """
 
@@ -239,12 +239,12 @@ def run_scenario(scenario: Scenario, out: Path, options: RunOptions = RunOptions
                  progress: bool = True, overwrite: bool = False,
                  tags: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run ``scenario`` for its duration in the run folder ``out`` (claimed first:
-    :func:`app.core.run_folder.claim`, ``overwrite`` replacing an earlier run) as ``options``
+    :func:`core.run_folder.claim`, ``overwrite`` replacing an earlier run) as ``options``
     say, and return the metrics (with ``tags`` added, e.g. the sweep entry it ran; with
     ``options.profile``, the time of each part under ``profile``). SIGINT or SIGTERM ends the
     run early: the report is still written and ``metrics["interrupted_by"]`` names the
     signal. A failed write (a full disk) stops the run with a
-    :class:`~app.core.run_folder.RunFolderError`; what was written stays whole."""
+    :class:`~core.run_folder.RunFolderError`; what was written stays whole."""
     wall0 = time.perf_counter()
     check_occasion(scenario)   # before anything is built or written
     claim(out, overwrite)

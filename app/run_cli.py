@@ -12,9 +12,9 @@ import os
 import sys
 from pathlib import Path
 
-from app.core.cli_args import integer, real, seed
-from app.core.limits import MAX_DURATION_S
 from app.tablet.cli import add_server_options
+from core.cli_args import integer, real, seed
+from core.limits import MAX_DURATION_S
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -39,7 +39,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--gui", action="store_true", help="open the PyBullet window")
     p.add_argument("--policy", type=Path, help="policy file (default: the shipped DQN)")
     p.add_argument("--behaviour", type=Path,
-                   help="YAML overriding app/defaults/behaviour.yaml")
+                   help="YAML overriding config/behaviour.yaml")
     p.add_argument("--audio", action="store_true",
                    help="also speak the robot's sentences into audio/NNNN.wav and people's "
                    "lines into audio/people/line-NNNN.wav, each in its own voice (espeak-ng)")
@@ -101,13 +101,13 @@ def bench_command(args: argparse.Namespace) -> int:
 
 def run_command(args: argparse.Namespace) -> int:
     """Handler of ``companion run``."""
-    from app.core.errors import UserError
-    from app.core.profiling import profile_table
-    from app.core.run_folder import default_folder
-    from app.core.signals import status_of
     from app.faults import load_faults
     from app.run import RunOptions, prepare_scenario, run_scenario
     from app.tablet.cli import tablet_serving
+    from core.errors import UserError
+    from core.profiling import profile_table
+    from core.run_folder import default_folder
+    from core.signals import status_of
 
     scenario = prepare_scenario(args.scenario, duration=args.duration, seed=args.seed,
                                 loop=args.loop)

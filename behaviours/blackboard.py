@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 import py_trees
 
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES
 from behaviours.context import Context
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES
 
 # Blackboard keys and what they hold.
 KEYS = {
@@ -26,7 +26,7 @@ KEYS = {
     "motivations": "np.ndarray (6,): eq. 3.4",
     "mood": "dict: value (eq. 3.6) and positive (bool)",
     "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
-    "action": "str | None: the running action (app.mind.personality.ACTIONS)",
+    "action": "str | None: the running action (mind.personality.ACTIONS)",
     "relieving": "bool: the running skill is satisfying its drive now",
     "progress": "int: homeostasis steps the running skill has been relieving",
     "act_status": "py_trees Status of the act subtree at the last tick",

@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/behaviour.yaml``: the behaviour tree's timing and skill parameters."""
+"""Schema of ``config/behaviour.yaml``: the behaviour tree's timing and skill parameters."""
 
 from __future__ import annotations
 
@@ -14,9 +14,9 @@ from pydantic import (
     model_validator,
 )
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import REPO_ROOT
-from app.sim.obstacle_tracks import TracksConfig
+from core.config_files import StrictModel, load_model
+from core.paths import REPO_ROOT
+from robot.obstacle_tracks import TracksConfig
 
 
 class PidGains(StrictModel):
@@ -44,7 +44,7 @@ class PerceptionConfig(StrictModel):
 
 
 class PidConfig(StrictModel):
-    """Navigation controllers: heading and distance to a goal (app/sim/navigation.py)."""
+    """Navigation controllers: heading and distance to a goal (robot/navigation.py)."""
 
     heading: PidGains
     distance: PidGains
@@ -218,7 +218,7 @@ class StandByConfig(StrictModel):
 
 
 class BehaviourConfig(StrictModel):
-    """Schema of ``app/defaults/behaviour.yaml``."""
+    """Schema of ``config/behaviour.yaml``."""
 
     homeostasis_step_s: PositiveFloat
     encouragement_s: float = Field(ge=0)

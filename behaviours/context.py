@@ -15,19 +15,19 @@ from typing import Any, Protocol
 import numpy as np
 import py_trees
 
-from app.core.events import EventLog
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import load_personality
-from app.mind.preferences.config import AdaptationConfig, load_feedback_config
-from app.mind.preferences.memory import Memory
-from app.sim.path_follower import PathFollower
-from app.sim.robot import Robot
-from app.sim.speech import Speaker
-from app.sim.world import World
 from behaviours.config import BehaviourConfig, load_behaviour_config
 from behaviours.step_record import StepRecord
+from core.events import EventLog
+from mind.homeostasis import Homeostasis
+from mind.personality import load_personality
+from mind.preferences.config import AdaptationConfig, load_feedback_config
+from mind.preferences.memory import Memory
 from perception.detector.yolo import Detector
 from perception.facing.model import FacingEstimator
+from robot.path_follower import PathFollower
+from robot.speaker import Speaker
+from sim.robot import Robot
+from sim.world import World
 
 
 class QuestionGenerator(Protocol):
@@ -98,7 +98,7 @@ class Context:
 def make_context(sim: Any, config: BehaviourConfig | None = None,
                  detector: Detector | None = None, events_path: Any = None,
                  audio_dir: Any = None, **services: Any) -> Context:
-    """A :class:`Context` around an :class:`app.sim.simulation.Simulation`: the scenario's
+    """A :class:`Context` around an :class:`sim.simulation.Simulation`: the scenario's
     personality, a clock that follows the simulation, an event log (in memory unless
     ``events_path``) and a speaker (WAVs into ``audio_dir`` when given). ``services``
     fills ``dialogue`` / ``questions``. Only cheap objects are made here: the models are

@@ -11,7 +11,7 @@
    runs yet) the DQN picks the next one from the motivations. With a household memory
    (``ctx.memory``) the pick adds what the person likes to the DQN's action values, among
    the actions that cannot let a drive near the secure bound
-   (:mod:`app.mind.preferences.adaptation`); the reason is then ``preference``.
+   (:mod:`mind.preferences.adaptation`); the reason is then ``preference``.
 
 The act subtree's guards stop a pre-empted skill cleanly (docs/behaviours.md explains the
 order).
@@ -24,18 +24,18 @@ from typing import Protocol
 import numpy as np
 from py_trees.common import Status
 
-from app.mind.personality import ACTIONS, DRIVES, STIMULI
-from app.mind.preferences.adaptation import choose
 from behaviours.context import Context
 from behaviours.listening import pending
 from behaviours.skill import ContextBehaviour
+from mind.personality import ACTIONS, DRIVES, STIMULI
+from mind.preferences.adaptation import choose
 
 ENERGY = DRIVES.index("energy")
 OVERHEAT = STIMULI.index("overheat")
 
 
 class Policy(Protocol):
-    """What the tree needs from a decision maker (``app.mind.policy.agent.DQNPolicy``)."""
+    """What the tree needs from a decision maker (``mind.policy.agent.DQNPolicy``)."""
 
     def act(self, motivations: np.ndarray) -> str:
         """The action to run for these motivations."""

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 from py_trees.common import Status
 
-from app.mind.preferences.memory import save_memory
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
+from mind.preferences.memory import save_memory
 
 
 class Credit(ContextBehaviour):

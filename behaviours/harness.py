@@ -6,12 +6,12 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Status
 
-from app.sim.simulation import Simulation
 from behaviours.blackboard import seed
 from behaviours.context import Context
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.sense import Sense
 from behaviours.ticking import SimulationTree
+from sim.simulation import Simulation
 
 
 def skill_tree(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviour,

@@ -1,7 +1,7 @@
 """Homeostasis tick: once per homeostasis step (one simulated second by default) advance the
 drives by the running action (Table 4.1 growth, Table 4.2 relief while the skill relieves),
 then compute the motivations (eq. 3.4) and the mood (eq. 3.6). The same
-:class:`app.mind.homeostasis.Homeostasis` drives the DQN's training environment."""
+:class:`mind.homeostasis.Homeostasis` drives the DQN's training environment."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ from typing import Any
 
 from py_trees.common import Status
 
-from app.mind.personality import ACTIONS, DRIVES, STAND_BY
 from behaviours.blackboard import motivations_and_mood
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
+from mind.personality import ACTIONS, DRIVES, STAND_BY
 
 BATTERY_TOLERANCE = 0.02   # charge the battery may differ from 1 - energy before it counts
 

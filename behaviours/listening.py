@@ -19,11 +19,11 @@ import math
 
 from py_trees.common import Status
 
-from app.sim.hearing import HeardLine
-from app.sim.robot import wrap_angle
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
 from dialogue.manager import Reply
+from robot.geometry import wrap_angle
+from robot.percepts import HeardLine
 
 
 def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardLine]:

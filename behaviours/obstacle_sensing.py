@@ -8,9 +8,9 @@ import math
 
 import numpy as np
 
-from app.sim.navigation import Navigator
 from behaviours.context import Context
 from behaviours.person_range import PersonRange
+from robot.navigation import Navigator
 
 Velocity = tuple[float, float, float]
 

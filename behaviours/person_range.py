@@ -8,9 +8,9 @@ import math
 
 import numpy as np
 
-from app.sim.robot import Robot
 from behaviours.config import PerceptionConfig
 from perception.detector.yolo import Detection
+from sim.robot import Robot
 
 
 class PersonRange:

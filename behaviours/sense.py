@@ -13,7 +13,7 @@
   and praise is also encouragement: it switches the encouragement stimulus on for
   ``encouragement_s``; whoever spoke or gave feedback last is ``person``;
 - an emotion counts only on a face the detector found in the current frame (what the face
-  at the box's centre shows, :meth:`app.sim.world.World.expression_of`); it colours the
+  at the box's centre shows, :meth:`sim.world.World.expression_of`); it colours the
   mood for ``emotion_hold_s`` after it was last seen;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
@@ -32,9 +32,6 @@ from typing import Any
 import numpy as np
 from py_trees.common import Status
 
-from app.sim.hearing import HeardLine, Sound
-from app.sim.robot import wrap_angle
-from app.sim.world_types import FeedbackEvent
 from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
@@ -44,6 +41,8 @@ from dialogue.feedback import FeedbackClassifier
 from dialogue.persona import Persona
 from dialogue.speech.recognizer import Transcript
 from perception.detector.yolo import Detection
+from robot.geometry import wrap_angle
+from robot.percepts import FeedbackEvent, HeardLine, Sound
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
 

@@ -15,9 +15,9 @@ from typing import Any
 import py_trees
 from py_trees.common import Access, Status
 
-from app.mind.personality import ACTIONS
 from behaviours.blackboard import KEYS
 from behaviours.context import Context
+from mind.personality import ACTIONS
 from perception.detector.yolo import Detection
 
 

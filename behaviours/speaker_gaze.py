@@ -17,11 +17,11 @@ import math
 
 import numpy as np
 
-from app.sim.robot import wrap_angle
 from behaviours.config import GazeConfig
 from behaviours.person_range import PersonRange
 from perception.detector.yolo import Detection
 from perception.facing.model import FacingEstimator
+from robot.geometry import wrap_angle
 
 
 class SpeakerGaze:

@@ -17,7 +17,7 @@ from behaviours.context import Context
 
 
 class SimulationTree(py_trees.trees.BehaviourTree):
-    """``root`` ticked on ``sim`` (an :class:`app.sim.simulation.Simulation`): each
+    """``root`` ticked on ``sim`` (an :class:`sim.simulation.Simulation`): each
     :meth:`tick` first steps the simulation by one scenario step (the pre-tick handler
     :meth:`advance`). :meth:`setup` sets up every behaviour once (the heavy one-time work:
     planners, grids, routines); call it before the first tick."""

@@ -12,7 +12,7 @@
     └── Act           status mirrored to the blackboard's ``act_status``
         └── Actions (selector)
             ├── charge?  guard: action == "charge"  -> the charge skill subtree
-            ├── ...      one guarded subtree per action of app.mind.personality.ACTIONS
+            ├── ...      one guarded subtree per action of mind.personality.ACTIONS
             └── stand_by?
 
 The guards are py_trees ``EternalGuard`` decorators: when Decide switches the action the
@@ -29,7 +29,6 @@ from collections.abc import Callable
 
 import py_trees
 
-from app.mind.personality import ACTIONS
 from behaviours.blackboard import seed
 from behaviours.context import Context
 from behaviours.decide import Decide, Policy
@@ -37,6 +36,7 @@ from behaviours.feedback import Credit
 from behaviours.homeostasis_tick import HomeostasisTick
 from behaviours.listening import Promise
 from behaviours.sense import Sense
+from mind.personality import ACTIONS
 
 SkillBuilder = Callable[[Context], py_trees.behaviour.Behaviour]
 

@@ -1,4 +1,4 @@
-"""The recogniser's confidence threshold (``min_confidence`` in app/defaults/speech.yaml),
+"""The recogniser's confidence threshold (``min_confidence`` in config/speech.yaml),
 chosen on lines that neither the language model, the acoustic model's adaptation nor
 ``companion eval asr`` ever saw: the held-out knowledge questions
 (``dialogue/data/knowledge_questions.tsv``, "what is a volcano", "who invented the
@@ -18,7 +18,7 @@ smallest threshold with 90 % of the accepted transcripts usable, chooses nothing
 lines: confidence does not separate them that well.)
 
 The ``faint_`` columns ask whether a *faint* line, one whose speech stood less than
-``listening.closer_below_snr_db`` (app/defaults/behaviour.yaml) over the noise at the
+``listening.closer_below_snr_db`` (config/behaviour.yaml) over the noise at the
 microphones, in any of the six conditions, is worth holding to a stricter threshold than the
 rest: under it the robot asks its speaker to come closer, which counts -``ASK_COST`` like
 asking again. Thresholds below ``min_confidence`` are not weighed for them (that one holds for
@@ -40,7 +40,6 @@ from pathlib import Path
 
 import numpy as np
 
-from app.sim.voices import PEOPLE_VOICES
 from behaviours.config import load_behaviour_config
 from dialogue.intent import IntentClassifier
 from dialogue.qa.text import STOPWORDS
@@ -49,6 +48,7 @@ from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import tuning_lines
 from dialogue.speech.training.evaluate import VOICES, heads_microphones, said_in_rooms
 from dialogue.speech.words import spoken_words
+from robot.voices import PEOPLE_VOICES
 
 THRESHOLDS = np.round(np.arange(0.0, 0.501, 0.025), 3)
 ASK_COST = 0.5   # asking again costs half a wrong answer: the person repeats, once

@@ -39,18 +39,18 @@ import numpy as np
 import pybullet as p
 from py_trees.common import Status
 
-from app.sim.navigation import Navigator, OccupancyGrid, Point
-from app.sim.robot import wrap_angle
-from app.sim.scenario import Event, PersonSpec, Scenario, Start, WalkTo, load_scenario
-from app.sim.scenario_space import to_segment
-from app.sim.simulation import Simulation
-from app.sim.world import World
 from behaviours.blackboard import seed
 from behaviours.config import BehaviourConfig, load_behaviour_config
 from behaviours.context import make_context
 from behaviours.harness import skill_tree
 from behaviours.skills.charge import approach, predock_pose
 from behaviours.ticking import SimulationTree
+from robot.geometry import wrap_angle
+from robot.navigation import Navigator, OccupancyGrid, Point
+from sim.scenario import Event, PersonSpec, Scenario, Start, WalkTo, load_scenario
+from sim.scenario_space import to_segment
+from sim.simulation import Simulation
+from sim.world import World
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 PERSON_RADIUS_M = 0.25   # m kept from the map's obstacles by a walk across the robot's way

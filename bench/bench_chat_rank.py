@@ -5,7 +5,7 @@ score parts are computed once with the most retrieved pairs of the grid; every s
 keeps its share of them (the ``retrieve`` most similar inputs at ``min_similarity`` or more)
 and picks its reply. For each setting: the share of generic replies, distinct-2 and the mean MiniLM
 relevance of line and reply (``dialogue/chat/training/relevance.py``), beside plain beam
-search. The shipped weights in ``app/defaults/chat.yaml`` were chosen from this table.
+search. The shipped weights in ``config/chat.yaml`` were chosen from this table.
 
 Usage: python bench/bench_chat_rank.py [--model assets/models/chat.pt] [--json PATH]
 """

@@ -1,5 +1,5 @@
 """The power the voice enhancer's mask is raised to (``model.mask_power`` in
-app/defaults/speech.yaml), chosen on lines that neither the language model, the acoustic
+config/speech.yaml), chosen on lines that neither the language model, the acoustic
 model's adaptation, the enhancer nor ``companion eval asr`` ever saw: the held-out
 knowledge questions (``dialogue/data/knowledge_questions.tsv``).
 
@@ -30,9 +30,6 @@ from pathlib import Path
 import jiwer
 import numpy as np
 
-from app.sim.acoustics import RATE
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
@@ -40,6 +37,9 @@ from dialogue.speech.training.corpus import tuning_lines
 from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES, heads_microphones
 from dialogue.speech.training.rooms import living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.soundscape import noise_loops
 
 CONDITIONS = (("tv", 1.0), ("tv", 3.0), ("quiet", 3.0))
 VISITOR_CONDITIONS = (("quiet", 1.0), ("tv", 1.0))

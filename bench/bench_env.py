@@ -12,12 +12,12 @@ import time
 
 import numpy as np
 
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import load_personality
-from app.mind.policy.agent import DQNPolicy
-from app.mind.policy.config import load_policy_config
-from app.mind.policy.training.baselines import HomeostaticRule
-from app.mind.policy.training.env import VecHomeostasisEnv
+from mind.homeostasis import Homeostasis
+from mind.personality import load_personality
+from mind.policy.agent import DQNPolicy
+from mind.policy.config import load_policy_config
+from mind.policy.training.baselines import HomeostaticRule
+from mind.policy.training.env import VecHomeostasisEnv
 
 
 def measure(policy, envs: int, seconds: float) -> dict:

@@ -5,7 +5,7 @@ Reported per threshold for people whose face is labelled there (found) and for p
 turned away (passed, which would greet someone from behind).
 
 The check is `behaviours.skills.box_steering.has_face` with the `find_people` region of
-`app/defaults/behaviour.yaml`, run on the labelled person box so that person-box misses
+`config/behaviour.yaml`, run on the labelled person box so that person-box misses
 do not count against it.
 
 Usage: python bench/bench_face_check.py --data runs/detector-data-v2 [--weights PATH]

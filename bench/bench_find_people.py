@@ -41,12 +41,6 @@ import numpy as np
 import pybullet as p
 from py_trees.common import Status
 
-from app.sim.layout import Placement
-from app.sim.scenario import Scenario, Start, load_scenario
-from app.sim.simulation import Simulation
-from app.sim.speech import speech_seconds
-from app.sim.world import World
-from app.sim.world_types import Footprint
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
 from behaviours.harness import skill_tree
@@ -54,6 +48,12 @@ from behaviours.skills import find_people
 from perception.detector.yolo import Detector, YoloDetector
 from perception.facing.config import DEFAULT_FACING_MODEL
 from perception.facing.model import FacingEstimator
+from robot.geometry import Footprint
+from robot.speaker import speech_seconds
+from sim.layout import Placement
+from sim.scenario import Scenario, Start, load_scenario
+from sim.simulation import Simulation
+from sim.world import World
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIO = ROOT / "worlds" / "living_room.yaml"

@@ -24,7 +24,7 @@ import sys
 import time
 from pathlib import Path
 
-from app.core.run_folder import RunFolderError, claim, release
+from core.run_folder import RunFolderError, claim, release
 
 RUN = [sys.executable, "-m", "app.cli", "run", "worlds/living_room.yaml", "--no-progress",
        "--duration", "600"]

@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 import pybullet as p
 
-from app.sim.robot import Robot
-from app.sim.scenario import load_scenario
-from app.sim.world import World
+from sim.robot import Robot
+from sim.scenario import load_scenario
+from sim.world import World
 
 WORLDS = ["living_room", "nursing_home", "birthday_party", "low_battery_night"]
 ROOT = Path(__file__).resolve().parents[1]

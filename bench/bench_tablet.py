@@ -128,10 +128,10 @@ def buttons_in_a_run(rounds: int, out: Path) -> dict[str, Any]:
     import signal
 
     from app.run import RunOptions, run_scenario
-    from app.sim.scenario import load_scenario
     from app.tablet.config import load_tablet_config
     from app.tablet.run_link import RunTablet
     from app.tablet.serve import TabletServer
+    from sim.scenario import load_scenario
 
     base = load_scenario(ROOT / "worlds" / "living_room.yaml")
     quiet = base.model_copy(update={"duration": 3600.0, "people": tuple(

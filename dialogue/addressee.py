@@ -20,8 +20,8 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from app.sim.scenario import AUDIENCES
 from dialogue.conversation import AddresseeConfig, load_conversation_config
+from robot.percepts import AUDIENCES
 
 ROBOT, EVERYONE = AUDIENCES
 _WORD = re.compile(r"[a-z]+(?:'[a-z]+)?")

@@ -14,8 +14,8 @@ import time
 from pathlib import Path
 from typing import Any, TextIO
 
-from app.core.paths import WORLDS_DIR
-from app.core.signals import Terminated
+from core.paths import WORLDS_DIR
+from core.signals import Terminated
 from dialogue.intent import HELDOUT_FILE, MODES
 from dialogue.qa.base import DialogueError
 

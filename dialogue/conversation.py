@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/conversation.yaml``: where the robot's everyday knowledge lies and
+"""Schema of ``config/conversation.yaml``: where the robot's everyday knowledge lies and
 how it checks a heard line before answering it."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from pathlib import Path
 
 from pydantic import Field
 
-from app.core.config_files import StrictModel, load_model
+from core.config_files import StrictModel, load_model
 
 
 class KnowledgeConfig(StrictModel):

@@ -17,10 +17,6 @@ from typing import Any
 
 import numpy as np
 
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES, load_personality
-from app.sim.camera import scenario_camera
-from app.sim.scenario import Scenario, load_scenario
 from dialogue.chat.config import DEFAULT_CHAT_MODEL
 from dialogue.chat.model import ChitChatModel
 from dialogue.manager import DialogueManager
@@ -33,6 +29,10 @@ from dialogue.qa.places import lookup
 from dialogue.speech.config import load_speech_config
 from dialogue.style.mood import MoodStyler
 from dialogue.style.transfer import DEFAULT_STYLE_MODEL
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES, load_personality
+from sim.camera import scenario_camera
+from sim.scenario import Scenario, load_scenario
 
 
 def reply_logger(path: Path) -> Callable[[dict[str, Any]], None]:
@@ -52,7 +52,7 @@ def shipped_chitchat() -> ChitChatModel | None:
 
 
 def shipped_style() -> MoodStyler | None:
-    """The shipped mood style-transfer model behind its gate (``app/defaults/mood_style.yaml``:
+    """The shipped mood style-transfer model behind its gate (``config/mood_style.yaml``:
     the styled reply only when it keeps meaning and grammar, else the reply with a mood
     opening), or None while no model has been trained."""
     return MoodStyler.load() if DEFAULT_STYLE_MODEL.is_file() else None
@@ -83,7 +83,7 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
     (Nones without ``scenario_path``). The household map and the camera come from the scenario,
     or from ``default_scenario`` when none is given; maps, photos and the reply log go to
     ``out``. Every file is checked before a model is loaded: one that cannot be read raises a
-    :class:`~app.core.errors.UserError` naming it."""
+    :class:`~core.errors.UserError` naming it."""
     drives, personality, household, scenario_weather = None, None, None, None
     if scenario_path is not None:
         scenario = load_scenario(scenario_path)

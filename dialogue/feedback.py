@@ -12,9 +12,9 @@ from __future__ import annotations
 
 from functools import cache
 
-from app.mind.preferences.config import load_feedback_config
 from dialogue.intent import DATA, TRAIN_FILE, TextModel, load_utterances
 from dialogue.intent import LABELS as INTENTS
+from mind.preferences.config import load_feedback_config
 
 FEEDBACK_TRAIN = DATA / "feedback_train.tsv"
 FEEDBACK_HELDOUT = DATA / "feedback_heldout.tsv"
@@ -33,7 +33,7 @@ class FeedbackClassifier:
 
     def __init__(self, examples: list[tuple[str, str]] | None = None,
                  threshold: float | None = None) -> None:
-        """``threshold`` None: ``spoken.threshold`` of ``app/defaults/feedback.yaml``."""
+        """``threshold`` None: ``spoken.threshold`` of ``config/feedback.yaml``."""
         self.model = TextModel(examples if examples is not None else training_lines())
         self.threshold = (load_feedback_config().spoken.threshold if threshold is None
                           else threshold)

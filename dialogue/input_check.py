@@ -6,7 +6,7 @@ Known words are WordNet's lemmas (any part of speech, any inflected form; nouns 
 WordNet writes them in lower case, so abbreviations and names such as "Es" or "VA" are not
 words of a sentence), the function
 words of :data:`dialogue.qa.text.STOPWORDS`, a few words of conversation from
-``app/defaults/conversation.yaml`` and names (capitalised words after the first). A line
+``config/conversation.yaml`` and names (capitalised words after the first). A line
 whose letters are mostly of a script other than Latin is not English; a Latin-script line
 of mostly unknown words is not understood (gibberish such as "asdf qwer", or another
 language; said so as "not English" when it carries accented letters).

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.files import read_text
+from core.files import read_text
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import DialogueError
 from dialogue.qa.knowledge import KnowledgeBase

@@ -10,7 +10,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from app.core.files import read_text
+from core.files import read_text
 from dialogue.qa.base import DialogueError
 
 QUESTIONS_FILE = Path(__file__).resolve().parent / "data" / "knowledge_questions.tsv"

@@ -1,5 +1,5 @@
 """Who the robot says it is: its name and what it likes, from ``persona`` in
-``app/defaults/conversation.yaml``, answered the same way every time instead of by chit-chat
+``config/conversation.yaml``, answered the same way every time instead of by chit-chat
 (which would make up a new name on each asking)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Room acoustics (app/sim/acoustics.py): distance, walls, doors, noise and what the
+"""Room acoustics (sim/acoustics.py): distance, walls, doors, noise and what the
 recorded voice sounds like."""
 
 from __future__ import annotations
@@ -10,15 +10,16 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.sim.acoustics import RATE, Acoustics, Wall
-from app.sim.layout import Room
-from app.sim.robot_config import load_robot_config
-from app.sim.scenario import load_scenario
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
-from app.sim.world import World
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.acoustics import Acoustics, Wall
+from sim.layout import Room
+from sim.robot_config import load_robot_config
+from sim.scenario import load_scenario
+from sim.soundscape import noise_loops
+from sim.world import World
 
 ROOT = Path(__file__).resolve().parents[1]
 CFG = load_robot_config().acoustics

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.addressee import AddresseeJudge
 from dialogue.conversation import load_conversation_config
 

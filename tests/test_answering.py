@@ -12,10 +12,10 @@ import pytest
 
 from app.report import interaction_metrics
 from app.run import RunOptions, build_run, prepare_scenario, run_scenario
-from app.sim.layout import Placement
-from app.sim.robot import wrap_angle
-from app.sim.scenario import Event, Start, load_scenario
 from behaviours.config import load_behaviour_config
+from robot.geometry import wrap_angle
+from sim.layout import Placement
+from sim.scenario import Event, Start, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

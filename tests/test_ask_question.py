@@ -8,15 +8,15 @@ import py_trees
 import pytest
 from py_trees.common import Status
 
-from app.core.events import EventLog
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES, load_personality
-from app.sim.speech import Speaker
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, SimClock
 from behaviours.skills.ask_question import AskAboutView
+from core.events import EventLog
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES, load_personality
 from perception.detector.yolo import Detection
+from robot.speaker import Speaker
 
 FRAME = np.zeros((240, 320, 3), np.uint8)
 PERSON = Detection("person", 0.9, (20.0, 40.0, 90.0, 230.0))   # on the left of the frame

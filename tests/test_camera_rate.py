@@ -9,9 +9,6 @@ from pathlib import Path
 import py_trees
 import yaml
 
-from app.sim.hearing import HeardLine
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
@@ -19,6 +16,9 @@ from behaviours.sense import Sense
 from behaviours.skill import people_in_view
 from behaviours.ticking import SimulationTree
 from perception.detector.yolo import YoloDetector
+from robot.percepts import HeardLine
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -16,9 +16,9 @@ import torch
 import yaml
 from test_training_resume import ctrl_c, refuses_changes_and_bad_checkpoints
 
-from app.core.checkpoint import read_checkpoint
-from app.core.config_files import ConfigError
-from app.core.errors import UserError
+from core.checkpoint import read_checkpoint
+from core.config_files import ConfigError
+from core.errors import UserError
 from dialogue.chat.batch import batches, make_batch
 from dialogue.chat.config import ChatConfig, load_chat_config
 from dialogue.chat.decode import banned_ngram_tokens

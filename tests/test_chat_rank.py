@@ -15,7 +15,7 @@ import pytest
 import torch
 from test_chat_model import write_corpus
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.chat.config import DEFAULT_CHAT_MODEL, ChatDataConfig, load_chat_config
 from dialogue.chat.follow_up import resolve
 from dialogue.chat.model import ChitChatModel, read_chat_file, save_chat_model

@@ -3,9 +3,9 @@
 import pytest
 
 from app.cli import main
-from app.core.config_files import ConfigError
-from app.mind.personality import load_personality
-from app.mind.policy.config import load_policy_config
+from core.config_files import ConfigError
+from mind.personality import load_personality
+from mind.policy.config import load_policy_config
 
 
 def write(tmp_path, text):

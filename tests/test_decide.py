@@ -9,19 +9,19 @@ import py_trees
 import pytest
 from py_trees.common import Access, Status
 
-from app.core.events import EventLog
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES, load_personality
-from app.sim.hearing import HeardLine
-from app.sim.speech import Speaker
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.context import Context, SimClock
 from behaviours.decide import Decide
 from behaviours.listening import Promise
+from core.events import EventLog
 from dialogue.manager import DialogueManager
 from dialogue.qa.base import Action
 from dialogue.qa.bot import QABot
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES, load_personality
+from robot.percepts import HeardLine
+from robot.speaker import Speaker
 
 
 class Always:

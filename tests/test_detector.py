@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from app.cli import main
-from app.sim.people import Appearance
 from perception.detector.config import DEFAULT_DETECTOR, DEFAULT_TRAINED, load_detector_config
 from perception.detector.training.data import DetectorScene, PersonSpec, SceneSpec
 from perception.detector.training.train import onnx_input_shape
 from perception.detector.yolo import DetectorFileError, YoloDetector
+from sim.people import Appearance
 
 CFG = load_detector_config()
 

@@ -10,10 +10,10 @@ import pytest
 import yaml
 
 from app.cli import main
-from app.core.config_files import ConfigError
-from app.sim.people import Appearance
+from core.config_files import ConfigError
 from perception.detector.config import load_detector_config
 from perception.detector.training.data import Box, DetectorScene, PersonSpec, SceneSpec, _extent
+from sim.people import Appearance
 
 CFG = load_detector_config().data
 

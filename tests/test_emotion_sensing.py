@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from app.run import build_run
-from app.sim.layout import Placement
-from app.sim.scenario import Event, Start, load_scenario
+from sim.layout import Placement
+from sim.scenario import Event, Start, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -11,9 +11,9 @@ import pytest
 from py_trees.common import Status
 
 from app.cli import main
-from app.core.events import EventLog
 from app.faults import RECOVERY
 from behaviours.skill import ContextBehaviour
+from core.events import EventLog
 
 SHORT = """faults:
   - {kind: speech_model_missing}

@@ -13,16 +13,16 @@ import pytest
 import yaml
 
 from app.cli import main
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import ACTIONS, load_personality
-from app.mind.policy.agent import DQNPolicy
-from app.mind.policy.config import load_policy_config
-from app.mind.preferences.adaptation import adapted_actions, drive_bound, learn, safe_actions
-from app.mind.preferences.config import FeedbackConfig, load_feedback_config
-from app.mind.preferences.evaluation.evaluate import run_arm, summarise
-from app.mind.preferences.memory import Memory, load_memory, save_memory
 from app.run import RunOptions, prepare_scenario, run_scenario
 from dialogue.feedback import evaluate_feedback
+from mind.homeostasis import Homeostasis
+from mind.personality import ACTIONS, load_personality
+from mind.policy.agent import DQNPolicy
+from mind.policy.config import load_policy_config
+from mind.preferences.adaptation import adapted_actions, drive_bound, learn, safe_actions
+from mind.preferences.config import FeedbackConfig, load_feedback_config
+from mind.preferences.evaluation.evaluate import run_arm, summarise
+from mind.preferences.memory import Memory, load_memory, save_memory
 
 ROOT = Path(__file__).resolve().parents[1]
 H = Homeostasis(load_personality())
@@ -165,8 +165,8 @@ def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:
 HEAR_REACTIONS = """
 import json
 from pathlib import Path
-from app.sim.hearing import Sound
-from app.sim.simulation import Simulation
+from robot.percepts import Sound
+from sim.simulation import Simulation
 from dialogue.feedback import FeedbackClassifier
 from dialogue.speech.recognizer import SpeechRecognizer
 

@@ -8,9 +8,6 @@ import pytest
 from conftest import WEIGHTS
 from py_trees.common import Status
 
-from app.sim.layout import Placement
-from app.sim.scenario import Start, load_scenario
-from app.sim.simulation import Simulation
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
@@ -22,6 +19,9 @@ from behaviours.skills.box_steering import has_face
 from perception.detector.yolo import Detection
 from perception.facing.config import DEFAULT_FACING_MODEL
 from perception.facing.model import FacingEstimator
+from sim.layout import Placement
+from sim.scenario import Start, load_scenario
+from sim.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.skipif(

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import ACTIONS, DRIVES, STAND_BY, load_personality
+from mind.homeostasis import Homeostasis
+from mind.personality import ACTIONS, DRIVES, STAND_BY, load_personality
 
 CHARGE, REST, FIND, DANCE, ASK, CHAT = range(6)
 

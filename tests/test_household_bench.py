@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from app.cli import main
-from app.core.errors import UserError
 from app.household_bench import BEGIN, END, METRICS, bench, plan, summarise, table, write_docs
+from core.errors import UserError
 
 
 def fake_run(folder: Path, seed: int, latencies: list[float]) -> None:

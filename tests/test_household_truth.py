@@ -10,8 +10,7 @@ import cv2
 import pytest
 
 from app.cli import main
-from app.core.config_files import ConfigError
-from app.sim.simulation import Simulation
+from core.config_files import ConfigError
 from perception.vqg.config import load_vqg_config
 from perception.vqg.generator import DEFAULT_VQG_MODEL
 from perception.vqg.training.data_config import load_vqg_data_config
@@ -22,6 +21,7 @@ from perception.vqg.training.household import (
     judge_question,
     palette_name,
 )
+from sim.simulation import Simulation
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 VISIBILITY = load_vqg_data_config().visibility

@@ -1,4 +1,4 @@
-"""The head's four microphones (app/sim/microphone_array.py, Acoustics.parts_at_array):
+"""The head's four microphones (sim/microphone_array.py, Acoustics.parts_at_array):
 a voice reaches each at its own time, the room's reverberation and noise are diffuse, and a
 TV across the room is heard reverberated, at the levels of the one-microphone rendering."""
 
@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import coherence
 
-from app.sim.acoustics import RATE
-from app.sim.microphone_array import SPEED_OF_SOUND, MicrophoneArray
-from app.sim.robot_config import load_robot_config
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
+from robot.audio import RATE, SPEED_OF_SOUND
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.microphone_array import MicrophoneArray
+from sim.robot_config import load_robot_config
+from sim.soundscape import noise_loops
 
 ROOT = Path(__file__).resolve().parents[1]
 ARRAY = MicrophoneArray(load_robot_config().acoustics.microphones, RATE)
@@ -78,12 +78,12 @@ def test_a_household_run_with_the_array_records_four_channels_the_recogniser_tak
     """Tom, 1.5 m to the robot's left (world bearing 90 degrees), asks for a photo: the run
     hands the robot four channels and where its head faced, not where Tom stood; the
     recogniser makes out the words, and the beam places the voice."""
-    from app.sim.hearing import Sound
-    from app.sim.robot import wrap_angle
-    from app.sim.scenario import Event, Say, Start, load_scenario
-    from app.sim.simulation import Simulation
     from behaviours.sense import voice_bearing
     from dialogue.speech.recognizer import SpeechRecognizer
+    from robot.geometry import wrap_angle
+    from robot.percepts import Sound
+    from sim.scenario import Event, Say, Start, load_scenario
+    from sim.simulation import Simulation
 
     base = load_scenario(ROOT / "worlds" / "living_room.yaml")   # the robot at (4.3, 2.6)
     tom = next(q for q in base.people if q.name == "Tom").model_copy(update={

@@ -10,23 +10,23 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
-from app.core.config_files import ConfigError
-from app.mind.personality import ACTIONS
-from app.sim.navigation import (
+from behaviours.config import load_behaviour_config
+from behaviours.context import make_context
+from behaviours.harness import run_skill
+from behaviours.skills.charge import approach, build, predock_pose
+from core.config_files import ConfigError
+from mind.personality import ACTIONS
+from robot.geometry import Footprint, Pose2D
+from robot.navigation import (
     Navigator,
     OccupancyGrid,
     Planner,
     footprint_distance,
 )
-from app.sim.path_follower import PathFollower
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
-from app.sim.world import World
-from app.sim.world_types import Footprint, Pose2D
-from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
-from behaviours.harness import run_skill
-from behaviours.skills.charge import approach, build, predock_pose
+from robot.path_follower import PathFollower
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
+from sim.world import World
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 CFG = load_behaviour_config()

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.conversation import PersonaConfig, load_conversation_config
 from dialogue.manager import DialogueContext, DialogueManager
 from dialogue.persona import Persona, spoken_list

@@ -12,19 +12,19 @@ import pytest
 import torch
 
 from app.cli import main
-from app.core.checkpoint import claim_run_folder, read_checkpoint
-from app.core.config_files import ConfigError
-from app.core.errors import UserError
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import ACTIONS, STAND_BY, load_personality
-from app.mind.policy.agent import DQNPolicy, PolicyFileError
-from app.mind.policy.config import DEFAULT_POLICY, load_policy_config
-from app.mind.policy.network import DuelingQNetwork
-from app.mind.policy.training.baselines import HomeostaticRule, RandomPolicy
-from app.mind.policy.training.demo import collect_demonstrations, margin_loss
-from app.mind.policy.training.env import Decisions, VecHomeostasisEnv
-from app.mind.policy.training.evaluate import run_episodes, summarise
-from app.mind.policy.training.train import action_discounts, selection_score, train, training_reward
+from core.checkpoint import claim_run_folder, read_checkpoint
+from core.config_files import ConfigError
+from core.errors import UserError
+from mind.homeostasis import Homeostasis
+from mind.personality import ACTIONS, STAND_BY, load_personality
+from mind.policy.agent import DQNPolicy, PolicyFileError
+from mind.policy.config import DEFAULT_POLICY, load_policy_config
+from mind.policy.network import DuelingQNetwork
+from mind.policy.training.baselines import HomeostaticRule, RandomPolicy
+from mind.policy.training.demo import collect_demonstrations, margin_loss
+from mind.policy.training.env import Decisions, VecHomeostasisEnv
+from mind.policy.training.evaluate import run_episodes, summarise
+from mind.policy.training.train import action_discounts, selection_score, train, training_reward
 
 DISCOUNTS = np.full(len(ACTIONS), 0.99, dtype=np.float32)  # per decision, every action
 
@@ -168,7 +168,7 @@ def test_a_folder_another_live_training_holds_is_refused(tmp_path):
 
 def test_the_lock_goes_when_the_training_process_exits(tmp_path):
     code = ("import sys; from pathlib import Path; "
-            "from app.core.checkpoint import claim_run_folder; "
+            "from core.checkpoint import claim_run_folder; "
             "d = Path(sys.argv[1]); claim_run_folder(d, d / 'checkpoint.pt', resume=False); "
             "print((d / '.lock').read_text())")
     done = subprocess.run([sys.executable, "-c", code, str(tmp_path)], capture_output=True,

@@ -11,8 +11,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_scenario import minimal
 
-from app.core.config_files import ConfigError
-from app.sim.scenario import Scenario, load_scenario
+from core.config_files import ConfigError
+from sim.scenario import Scenario, load_scenario
 
 NASTY = st.one_of(
     st.none(), st.booleans(), st.integers(min_value=-(10**30), max_value=10**30),

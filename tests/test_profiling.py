@@ -7,7 +7,7 @@ import subprocess
 import sys
 import time
 
-from app.core.profiling import Profile, profile_table
+from core.profiling import Profile, profile_table
 
 
 class Worker:

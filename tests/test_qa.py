@@ -6,7 +6,6 @@ from pathlib import Path
 import cv2
 import pytest
 
-from app.sim.scenario import load_scenario
 from dialogue.qa.base import DialogueError
 from dialogue.qa.bot import QABot, load_weather
 from dialogue.qa.clock import answer_time, scenario_clock
@@ -16,6 +15,7 @@ from dialogue.qa.music import answer_music, shipped_songs
 from dialogue.qa.news import answer_news, news_topic
 from dialogue.qa.photo import answer_photo
 from dialogue.qa.weather import ScenarioWeather, WeatherProvider, answer_weather
+from sim.scenario import load_scenario
 
 NOON_UTC = datetime(2025, 6, 1, 12, 0, tzinfo=UTC)
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"

@@ -11,10 +11,10 @@ import pybullet as p
 import pytest
 import yaml
 
-from app.sim.render import band_projection, tiny_render
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
-from app.sim.split_render import SplitRenderer
+from sim.render import band_projection, tiny_render
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
+from sim.split_render import SplitRenderer
 
 ROOT = Path(__file__).resolve().parents[1]
 MAX_EDGE_PIXELS = 40   # of 76,800: where two surfaces are equally near, either may win

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.mind.policy.training.env import Decisions
-from app.mind.policy.training.replay import NStepWriter, ReplayBuffer
+from mind.policy.training.env import Decisions
+from mind.policy.training.replay import NStepWriter, ReplayBuffer
 
 
 def feed(writer: NStepWriter, steps: list[tuple[float, float, bool, bool]], start: int = 0

@@ -6,14 +6,14 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.sim.power import MotorHeat
-from app.sim.robot import (
+from sim.power import MotorHeat
+from sim.robot import (
     JOINT_NAMES,
     URDF_PATH,
     Robot,
     decode_segmentation,
 )
-from app.sim.robot_config import load_robot_config
+from sim.robot_config import load_robot_config
 
 DT = 1.0 / 240.0
 CFG = load_robot_config()

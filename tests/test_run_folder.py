@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from app.core.run_folder import RunFolderError, claim, default_folder, release
+from core.run_folder import RunFolderError, claim, default_folder, release
 
 RUN = [sys.executable, "-m", "app.cli", "run", "worlds/living_room.yaml", "--no-progress"]
 

@@ -5,9 +5,9 @@ from pathlib import Path
 import pytest
 import yaml
 
-from app.core.config_files import ConfigError
-from app.mind.personality import DRIVES
-from app.sim.scenario import load_scenario
+from core.config_files import ConfigError
+from mind.personality import DRIVES
+from sim.scenario import load_scenario
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 NAMES = ("living_room", "nursing_home", "birthday_party", "low_battery_night")

@@ -13,12 +13,12 @@ from conftest import WEIGHTS
 from py_trees.common import Status
 from test_find_people import find
 
-from app.sim.layout import Placement
-from app.sim.scenario import Start, load_scenario
-from app.sim.simulation import Simulation
 from behaviours.context import make_context
 from behaviours.skills.detour import Detour
 from behaviours.skills.search import Search, remember
+from sim.layout import Placement
+from sim.scenario import Start, load_scenario
+from sim.simulation import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,17 +9,17 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.sim.lasers import Scan
-from app.sim.navigation import Navigator
-from app.sim.obstacle_tracks import clusters
-from app.sim.people import Part, build_body
-from app.sim.robot import Robot
-from app.sim.scenario import load_scenario
-from app.sim.sensed_obstacles import ObstacleMemory
-from app.sim.simulation import Simulation
 from behaviours.config import load_behaviour_config
 from behaviours.context import make_context
 from behaviours.obstacle_sensing import ObstacleSensing
+from robot.lasers import Scan
+from robot.navigation import Navigator
+from robot.obstacle_tracks import clusters
+from robot.sensed_obstacles import ObstacleMemory
+from sim.people import Part, build_body
+from sim.robot import Robot
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 CFG = load_behaviour_config().charge

@@ -10,19 +10,19 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
-from app.core.config_files import ConfigError
-from app.core.events import EventLog
-from app.sim.dances import load_dances
-from app.sim.robot import Robot
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
-from app.sim.speech import Speaker
-from app.sim.voices import Voice
 from behaviours.blackboard import seed
 from behaviours.context import Context, make_context
 from behaviours.harness import run_skill
 from behaviours.skills import rest, sing_dance, stand_by
 from behaviours.skills.sing_dance import Dance
+from core.config_files import ConfigError
+from core.events import EventLog
+from robot.dances import load_dances
+from robot.speaker import Speaker
+from robot.voices import Voice
+from sim.robot import Robot
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
 
 WORLD = Path(__file__).resolve().parents[1] / "worlds" / "living_room.yaml"
 SKILLS = {"rest": rest, "stand_by": stand_by, "sing_dance": sing_dance}
@@ -159,7 +159,7 @@ def limits() -> Iterator[dict[str, tuple[float, float]]]:
 
 
 def test_packaged_routines_are_valid_and_song_length(limits):
-    book = load_dances(Path(__file__).resolve().parents[1] / "app/defaults/dances.yaml", limits)
+    book = load_dances(Path(__file__).resolve().parents[1] / "config/dances.yaml", limits)
     assert len(book.routines) >= 3
     assert len({r.title for r in book.routines}) == len(book.routines)
     assert all(25 <= r.length_s <= 35 for r in book.routines)

@@ -12,8 +12,6 @@ import pytest
 from pocketsphinx import get_model_path
 from test_speech_recognition import recorded
 
-from app.sim.acoustics import RATE
-from app.sim.robot_config import load_robot_config
 from dialogue.speech.config import SpeechConfig, load_speech_config
 from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
 from dialogue.speech.training.acoustic import (
@@ -29,6 +27,8 @@ from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import evaluation_words
 from dialogue.speech.wav import read_wav
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from sim.robot_config import load_robot_config
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -11,16 +11,16 @@ import numpy as np
 import pytest
 
 from app.cli import main
-from app.core.config_files import ConfigError
-from app.sim.acoustics import RATE
-from app.sim.robot_config import load_robot_config
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise, wav_bytes
+from core.config_files import ConfigError
 from dialogue.speech.beamformer import apply_weights, steering, voice_direction
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
 from dialogue.speech.wav import read_wav
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise, wav_bytes
+from sim.robot_config import load_robot_config
+from sim.soundscape import noise_loops
 
 LINE = "What's the weather like in Paris today?"
 

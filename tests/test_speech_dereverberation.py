@@ -7,15 +7,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.core.config_files import ConfigError
-from app.sim.acoustics import Acoustics
-from app.sim.robot_config import load_robot_config
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
+from core.config_files import ConfigError
 from dialogue.speech.config import DereverberationConfig, load_speech_config
 from dialogue.speech.dereverberation import dereverberate
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.acoustics import Acoustics
+from sim.robot_config import load_robot_config
+from sim.soundscape import noise_loops
 
 WPE = DereverberationConfig(taps=10, delay=3, iterations=1)
 LINE = "Can you tell me the news this morning?"

@@ -9,16 +9,16 @@ import pytest
 import torch
 
 from app.cli import main
-from app.core.paths import MODELS_DIR
-from app.sim.acoustics import RATE
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
+from core.paths import MODELS_DIR
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.enhancer import VoiceEnhancer
 from dialogue.speech.recognizer import SpeechModelError, SpeechRecognizer, noise_floor
 from dialogue.speech.training.enhancer import train_enhancer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.soundscape import noise_loops
 
 SHIPPED = MODELS_DIR / "speech" / "enhancer.pt"
 

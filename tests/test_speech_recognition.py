@@ -11,16 +11,17 @@ import numpy as np
 import pytest
 
 from app.cli import main
-from app.sim.acoustics import RATE, Acoustics
-from app.sim.layout import Room
-from app.sim.robot_config import load_robot_config
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
 from dialogue.addressee import AddresseeJudge
 from dialogue.manager import SAY_AGAIN, DialogueManager
 from dialogue.speech.recognizer import SpeechRecognizer, loudness
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.acoustics import Acoustics
+from sim.layout import Room
+from sim.robot_config import load_robot_config
+from sim.soundscape import noise_loops
 
 
 def recorded(text: str, distance: float = 1.0) -> np.ndarray:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from app.cli import main
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.conversation import load_conversation_config
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.training.topics import general_english, topic_lines

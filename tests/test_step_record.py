@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
-from app.mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
 from app.report import TimelineWriter, compute_metrics, plot_run, read_timeline
 from behaviours.step_record import StepRecord
+from mind.personality import ACTIONS, DRIVES, MOTIVATIONS, STIMULI
 
 
 def _rows(n: int, seed: int = 0) -> list[dict]:

@@ -4,7 +4,7 @@ import pytest
 import torch
 from style_helpers import one_thread, tiny_config, write_corpus
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.style.config import load_style_config
 from dialogue.style.model import FAKE, StyleCode, StyleTransferModel
 from dialogue.style.text import detokenize, tokenize

@@ -7,7 +7,7 @@ import json
 import pytest
 from style_helpers import one_thread
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from dialogue.style.config import CLASSIFIER_FILE
 from dialogue.style.files import load_classifier
 from dialogue.style.mood import (

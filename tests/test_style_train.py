@@ -14,9 +14,9 @@ from style_helpers import one_thread, tiny_config, write_corpus
 from test_training_resume import refuses_changes_and_bad_checkpoints
 from torch import nn
 
-from app.core.checkpoint import read_checkpoint
-from app.core.errors import UserError
-from app.core.signals import Terminated
+from core.checkpoint import read_checkpoint
+from core.errors import UserError
+from core.signals import Terminated
 from dialogue.style.config import load_style_config
 from dialogue.style.files import StyleModelError
 from dialogue.style.training import cli as style_cli

@@ -11,13 +11,13 @@ import py_trees
 import pytest
 from starlette.testclient import TestClient
 
-from app.core.config_files import ConfigError
 from app.tablet.cards import FileRegistry
 from app.tablet.chat_link import ChatTablet
 from app.tablet.config import KINDS, load_tablet_config
 from app.tablet.record import ViewFrames, frame_time
 from app.tablet.run_link import RunTablet
 from app.tablet.server import CSP, create_app
+from core.config_files import ConfigError
 
 ROOT = Path(__file__).resolve().parents[1]
 CARD_OF = {"information": "knowledge", "weather": "weather", "time": "clock", "news": "news",

@@ -15,13 +15,13 @@ import pytest
 from test_tablet import CARD_OF
 from test_tablet_run import quiet_living_room
 
-from app.mind.personality import ACTIONS
 from app.run import RunOptions, run_scenario
 from app.tablet.chat_link import ChatTablet
 from app.tablet.config import KINDS, load_tablet_config
 from app.tablet.replay import ReplayView
 from app.tablet.run_link import RunTablet
 from app.tablet.serve import TabletServer
+from mind.personality import ACTIONS
 
 ROOT = Path(__file__).resolve().parents[1]
 CHROMIUM, DRIVER = shutil.which("chromium"), shutil.which("chromedriver")

@@ -14,11 +14,11 @@ import httpx
 import pytest
 
 from app.run import RunOptions, run_scenario
-from app.sim.scenario import load_scenario
 from app.tablet.config import load_tablet_config
 from app.tablet.replay import ReplayView
 from app.tablet.run_link import RunTablet
 from app.tablet.serve import TabletServer
+from sim.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

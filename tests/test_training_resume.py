@@ -21,14 +21,14 @@ import pytest
 import torch
 
 from app.cli import main
-from app.core.checkpoint import TrainingFolder, read_checkpoint
-from app.core.errors import UserError
-from app.core.interrupts import stop_point, stop_requests
-from app.core.run_config import differences
-from app.mind.personality import load_personality
-from app.mind.policy.config import load_policy_config
-from app.mind.policy.training import train as policy_train
-from app.mind.policy.training.env import VecHomeostasisEnv
+from core.checkpoint import TrainingFolder, read_checkpoint
+from core.errors import UserError
+from core.interrupts import stop_point, stop_requests
+from core.run_config import differences
+from mind.personality import load_personality
+from mind.policy.config import load_policy_config
+from mind.policy.training import train as policy_train
+from mind.policy.training.env import VecHomeostasisEnv
 
 ROOT = Path(__file__).resolve().parents[1]
 TINY = """env: {{episode_steps: 200}}

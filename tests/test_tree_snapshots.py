@@ -19,11 +19,11 @@ import numpy as np
 import py_trees
 import pytest
 
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
 from behaviours.context import make_context
 from behaviours.ticking import SimulationTree
 from behaviours.tree import build_tree, render
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
 
 SNAPSHOTS = Path(__file__).parent / "snapshots"
 UPDATE = os.environ.get("UPDATE_SNAPSHOTS") == "1"

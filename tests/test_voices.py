@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 import yaml
 
-from app.core.config_files import ConfigError
 from app.run import RunOptions, prepare_scenario, run_scenario
-from app.sim.scenario import load_scenario, voice_of
-from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
+from core.config_files import ConfigError
+from robot.voices import PEOPLE_VOICES, Voice, synthesise
+from sim.scenario import load_scenario, voice_of
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -93,8 +93,8 @@ def test_a_run_with_audio_speaks_the_robot_and_the_people(tmp_path) -> None:
 
 SAY_TWICE = """
 import hashlib
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
+from sim.soundscape import noise_loops
+from robot.voices import PEOPLE_VOICES, synthesise
 noise_loops(0)   # the TV's presenter first, as a household run does
 for voice in PEOPLE_VOICES:
     print(hashlib.md5(synthesise("Where is the kitchen?", voice)[0].tobytes()).hexdigest())

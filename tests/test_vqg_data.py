@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from app.core.config_files import ConfigError
+from core.config_files import ConfigError
 from perception.vqg.questions import frame_key, is_grounded, is_on_topic, parse_question, tokenize
 from perception.vqg.scene import Node, SceneGraph
 from perception.vqg.training.data import make_renderer, questions_for, write_vqg_dataset

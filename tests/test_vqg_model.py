@@ -18,8 +18,8 @@ import pytest
 import torch
 from test_training_resume import ctrl_c, refuses_changes_and_bad_checkpoints
 
-from app.core.checkpoint import read_checkpoint
-from app.core.errors import UserError
+from core.checkpoint import read_checkpoint
+from core.errors import UserError
 from perception.vqg.config import load_vqg_config
 from perception.vqg.generator import VqgModelError, VqgQuestionGenerator
 from perception.vqg.model import Latent, MatchDiscriminator, VqgModel

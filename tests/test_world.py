@@ -8,10 +8,10 @@ import numpy as np
 import pybullet as p
 import pytest
 
-from app.sim.people import Appearance, create_person
-from app.sim.scenario import load_scenario
-from app.sim.world import World
-from app.sim.world_types import EmotionEvent, EncourageEvent, SayEvent
+from robot.percepts import EmotionEvent, EncourageEvent, SayEvent
+from sim.people import Appearance, create_person
+from sim.scenario import load_scenario
+from sim.world import World
 
 WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 NAMES = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
@@ -206,8 +206,8 @@ def test_person_api(client):
 
 
 def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
-    from app.sim.scenario import Event, Start, WalkTo
-    from app.sim.simulation import Simulation
+    from sim.scenario import Event, Start, WalkTo
+    from sim.simulation import Simulation
 
     base = load_scenario(WORLDS / "living_room.yaml")
     tom = next(q for q in base.people if q.name == "Tom")
@@ -228,9 +228,9 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
 
 @pytest.mark.parametrize(("goal", "arrives"), [((4.3, 4.0), True), ((4.3, 3.0), False)])
 def test_a_walking_person_goes_round_the_robot_or_stops_short_of_it(goal, arrives):
-    from app.sim.scenario import Event, Start, WalkTo
-    from app.sim.simulation import Simulation
-    from app.sim.world import STOP_SHORT
+    from sim.scenario import Event, Start, WalkTo
+    from sim.simulation import Simulation
+    from sim.world import STOP_SHORT
 
     base = load_scenario(WORLDS / "living_room.yaml")
     tom = next(q for q in base.people if q.name == "Tom").model_copy(update={
@@ -249,9 +249,9 @@ def test_a_walking_person_goes_round_the_robot_or_stops_short_of_it(goal, arrive
 
 
 def test_asked_to_clear_the_way_people_standing_near_the_robot_step_back():
-    from app.sim.scenario import Start
-    from app.sim.simulation import Simulation
-    from app.sim.world import MADE_WAY_M
+    from sim.scenario import Start
+    from sim.simulation import Simulation
+    from sim.world import MADE_WAY_M
 
     base = load_scenario(WORLDS / "living_room.yaml")   # the robot stands at (4.3, 2.6)
     tom, grace = (next(q for q in base.people if q.name == n) for n in ("Tom", "Grace"))
@@ -308,10 +308,10 @@ def test_a_speaker_faces_whom_they_talk_to_then_turns_back():
     """People face whom they talk to (the robot's camera cue for whom a line is for): Tom
     turns to Grace for his line to her and to the robot for his line to it, each time
     turning back ``LOOK_AFTER_S`` after the line ends; Grace, walking, is not turned."""
-    from app.sim.gaze import LOOK_AFTER_S
-    from app.sim.scenario import Event, Start
-    from app.sim.simulation import Simulation
-    from app.sim.speech import speech_seconds
+    from robot.speaker import speech_seconds
+    from sim.gaze import LOOK_AFTER_S
+    from sim.scenario import Event, Start
+    from sim.simulation import Simulation
 
     base = load_scenario(WORLDS / "living_room.yaml")   # the robot stands at (4.3, 2.6)
     tom, grace = (next(q for q in base.people if q.name == n) for n in ("Tom", "Grace"))

@@ -6,7 +6,7 @@ phase under way, its step, optimizers, batch samplers, RNG state and extra value
 written atomically every ``checkpoint_every`` steps, at the end of each phase and on Ctrl-C;
 ``--resume`` continues from it. Each phase appends to ``log_<phase>.csv`` (means over
 ``log_every`` steps, flushed at once); on resume, rows past the checkpoint are dropped. The
-folder, checkpoint file and logs are :class:`app.core.checkpoint.TrainingFolder`'s.
+folder, checkpoint file and logs are :class:`core.checkpoint.TrainingFolder`'s.
 """
 
 from __future__ import annotations
@@ -22,8 +22,8 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from app.core.checkpoint import TrainingFolder
-from app.core.errors import UserError
+from core.checkpoint import TrainingFolder
+from core.errors import UserError
 from textnets.batch import BatchSampler
 
 StepFn = Callable[[int], dict[str, float]]

@@ -9,7 +9,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from app.core.cli_args import real
+from core.cli_args import real
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
@@ -34,10 +34,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
 def run_sweep(args: argparse.Namespace) -> int:
     """Handler of ``companion sweep``: 0 when every run finished, 1 when one failed, 130 or
     143 when interrupted."""
-    from app.core.signals import exit_status, signal_name
     from app.sweep.report import write_report
     from app.sweep.runner import sweep
     from app.sweep.spec import load_sweep
+    from core.signals import exit_status, signal_name
 
     spec, runs = load_sweep(args.spec)
     out = args.out or Path("runs") / f"sweep-{args.spec.stem}"

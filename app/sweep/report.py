@@ -19,8 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from scipy import stats
 
-from app.core.checkpoint import atomic_write, atomic_write_bytes
 from app.sweep.spec import Bounds
+from core.checkpoint import atomic_write, atomic_write_bytes
 
 HOUSEHOLD = {"rsr": "RSR", "mood_positive_share": "positive mood share",
              "answered_share": "lines answered ≤ 15 s", "found_share": "find people found",

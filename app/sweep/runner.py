@@ -17,12 +17,12 @@ from typing import Any
 
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.errors import UserError
-from app.core.run_folder import lock_folder
-from app.core.signals import terminable
 from app.sweep.spec import Run, TrainRun
 from app.sweep.worker import execute, execute_training
+from core.checkpoint import atomic_write_bytes
+from core.errors import UserError
+from core.run_folder import lock_folder
+from core.signals import terminable
 
 CANCEL_WAIT_S = 60.0   # how long cancelled runs get to write their interrupted reports
 RAY_TOKEN_FILE = Path.home() / ".ray" / "auth_token"   # where `ray start` keeps its token

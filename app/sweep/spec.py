@@ -17,9 +17,9 @@ from pathlib import Path
 
 from pydantic import Field, model_validator
 
-from app.core.config_files import ConfigError, StrictModel, read_yaml, validate
-from app.core.limits import MAX_DURATION_S, SEED_MAX
-from app.core.paths import REPO_ROOT
+from core.config_files import ConfigError, StrictModel, read_yaml, validate
+from core.limits import MAX_DURATION_S, SEED_MAX
+from core.paths import REPO_ROOT
 
 GRID_KEYS = {"world": "worlds", "personality": "personalities", "policy": "policies",
              "faults": "faults"}

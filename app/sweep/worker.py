@@ -9,17 +9,17 @@ import time
 from pathlib import Path
 from typing import Any
 
-from app.core.checkpoint import atomic_write_bytes
 from app.faults import load_faults
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import load_personality
-from app.mind.policy.agent import DQNPolicy
-from app.mind.policy.config import load_policy_config
-from app.mind.policy.training.baselines import HomeostaticRule
-from app.mind.policy.training.evaluate import paired_gain, run_episodes, summarise
-from app.mind.policy.training.train import train
 from app.run import RunOptions, prepare_scenario, run_scenario
 from app.sweep.spec import Run, TrainRun
+from core.checkpoint import atomic_write_bytes
+from mind.homeostasis import Homeostasis
+from mind.personality import load_personality
+from mind.policy.agent import DQNPolicy
+from mind.policy.config import load_policy_config
+from mind.policy.training.baselines import HomeostaticRule
+from mind.policy.training.evaluate import paired_gain, run_episodes, summarise
+from mind.policy.training.train import train
 
 
 def execute(run: Run, folder: Path, collect: bool, threads: int) -> dict[str, Any]:

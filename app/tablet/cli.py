@@ -16,9 +16,9 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from app.core.cli_args import integer
-from app.core.errors import UserError
-from app.core.signals import Terminated
+from core.cli_args import integer
+from core.errors import UserError
+from core.signals import Terminated
 
 
 def add_server_options(p: argparse.ArgumentParser) -> None:
@@ -26,8 +26,8 @@ def add_server_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--host", help="address to serve on (default: 127.0.0.1, this machine "
                    "only; any other needs the token printed at start)")
     p.add_argument("--port", type=integer(0, 65535),
-                   help="port (default: app/defaults/tablet.yaml's; 0 picks a free one)")
-    p.add_argument("--tablet-config", type=Path, help="YAML over app/defaults/tablet.yaml")
+                   help="port (default: config/tablet.yaml's; 0 picks a free one)")
+    p.add_argument("--tablet-config", type=Path, help="YAML over config/tablet.yaml")
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:

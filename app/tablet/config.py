@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/tablet.yaml``: the tablet's server, buttons, live view and replay."""
+"""Schema of ``config/tablet.yaml``: the tablet's server, buttons, live view and replay."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from typing import Self
 
 from pydantic import Field, model_validator
 
-from app.core.config_files import StrictModel, load_model
+from core.config_files import StrictModel, load_model
 from dialogue.intent import CHITCHAT
 from dialogue.qa import CATEGORIES
 

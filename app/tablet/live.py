@@ -15,10 +15,10 @@ import cv2
 import numpy as np
 import py_trees
 
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES, MOTIVATIONS
 from app.tablet.config import LiveConfig
 from app.tablet.replies import ReplyLog
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES, MOTIVATIONS
 
 REASON_KINDS = ("action", "preempted", "credited")   # events that explain the current action
 BOX_COLOUR = (255, 200, 0)   # RGB

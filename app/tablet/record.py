@@ -13,9 +13,9 @@ from typing import Any
 
 import py_trees
 
-from app.core.checkpoint import atomic_write_bytes
 from app.tablet.config import TabletConfig, load_tablet_config
 from app.tablet.live import frame_jpeg
+from core.checkpoint import atomic_write_bytes
 
 VIEW_DIR = "view"
 TREES = "trees.jsonl"

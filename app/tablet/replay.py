@@ -17,16 +17,16 @@ import json
 from pathlib import Path
 from typing import Any
 
-from app.core.config_files import read_yaml
-from app.core.errors import UserError
-from app.core.files import DATA_LIMIT, read_text
-from app.mind.homeostasis import Homeostasis
-from app.mind.personality import DRIVES, MOTIVATIONS, load_personality
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import SnapshotSlot, ranges
 from app.tablet.record import TREES, VIEW_DIR, frame_time
 from app.tablet.replies import ReplyLog
+from core.config_files import read_yaml
+from core.errors import UserError
+from core.files import DATA_LIMIT, read_text
+from mind.homeostasis import Homeostasis
+from mind.personality import DRIVES, MOTIVATIONS, load_personality
 
 WHY_KINDS = ("action", "preempted", "credited")
 

@@ -18,13 +18,12 @@ import queue
 from dataclasses import dataclass
 from typing import Any
 
-from app.sim.hearing import HeardLine
-from app.sim.world_types import FeedbackEvent
 from app.tablet.cards import FileRegistry
 from app.tablet.config import TabletConfig
 from app.tablet.live import MindView, SnapshotSlot
 from app.tablet.replies import ReplyLog, tap
 from dialogue.manager import clean_input
+from robot.percepts import FeedbackEvent, HeardLine
 
 
 class BusyError(Exception):

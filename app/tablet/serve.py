@@ -11,8 +11,8 @@ from typing import Any
 
 import uvicorn
 
-from app.core.errors import UserError
 from app.tablet.server import create_app
+from core.errors import UserError
 
 START_TIMEOUT_S = 10.0
 

@@ -14,13 +14,12 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from app.sim.navigation import Navigator, Point
-from app.sim.path_follower import PathFollower
-from app.sim.robot import wrap_angle
-from app.sim.world_types import Pose2D
 from behaviours.context import Context
 from behaviours.obstacle_sensing import ObstacleSensing
 from behaviours.skill import ContextBehaviour, Relieve, Say
+from robot.geometry import Pose2D, wrap_angle
+from robot.navigation import Navigator, Point
+from robot.path_follower import PathFollower
 
 ESCAPED_M = 0.02   # m: this close to the free cell where the path begins, the slide ends
 
@@ -158,7 +157,7 @@ class DockIn(StopBase):
     The laser scanners watch the way in as on the path (:meth:`ObstacleSensing.guard`).
     Held back by something on the dock for ``replan_blocked_s``, it says so and asks for
     the way to be cleared, once (a ``dock_blocked`` event; people standing near it step
-    back, :meth:`app.sim.world.World.make_way`), and keeps trying until the deadline."""
+    back, :meth:`sim.world.World.make_way`), and keeps trying until the deadline."""
 
     def __init__(self, name: str, ctx: Context, dock: Pose2D,
                  sensing: Callable[[], ObstacleSensing]) -> None:

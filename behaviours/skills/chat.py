@@ -20,12 +20,12 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from app.sim.hearing import HeardLine
 from behaviours.context import Context
 from behaviours.listening import FaceSpeaker, head_error, pending, reply_to
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, Relieve, people_in_view
 from behaviours.speaker_gaze import SpeakerGaze
+from robot.percepts import HeardLine
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
 

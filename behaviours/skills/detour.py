@@ -17,11 +17,10 @@ import math
 
 import numpy as np
 
-from app.sim.navigation import Navigator, OccupancyGrid, Point
-from app.sim.path_follower import Velocity
-from app.sim.robot import wrap_angle
-from app.sim.world_types import Footprint, Pose2D
 from behaviours.context import Context
+from robot.geometry import Footprint, Pose2D, wrap_angle
+from robot.navigation import Navigator, OccupancyGrid, Point
+from robot.path_follower import Velocity
 
 FACING_TOLERANCE = math.radians(5.0)   # a detour ends once the robot faces the estimate so well
 LOOK_SHORT_M = 0.4                     # lines of sight end this far before the estimate

@@ -7,9 +7,9 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import Status
 
-from app.sim.robot import Robot
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
+from sim.robot import Robot
 
 STAND = "Stand"
 

@@ -1,4 +1,4 @@
-"""Sing and dance: perform a routine of ``app/defaults/dances.yaml`` (keyframed arm, head
+"""Sing and dance: perform a routine of ``config/dances.yaml`` (keyframed arm, head
 and hip gestures with sung lines, docs/skills_body.md), looped for the action's Table 4.2
 duration, then stand. A song someone asked for is danced as asked; otherwise each start of
 the skill takes the next routine in the file's order."""
@@ -10,10 +10,10 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from app.sim.dances import Routine, load_dances
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour, Relieve
 from behaviours.skills.posture import STAND, GoToPosture, StandOnExit
+from robot.dances import Routine, load_dances
 
 
 class Dance(ContextBehaviour):

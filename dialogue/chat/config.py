@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/chat.yaml``: data mix, model sizes, training schedule, decoding,
+"""Schema of ``config/chat.yaml``: data mix, model sizes, training schedule, decoding,
 reply ranking and follow-ups.
 
 Every number that shapes the chit-chat model lives in that YAML file; a user file given with
@@ -12,8 +12,8 @@ from typing import Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import MODELS_DIR, REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.paths import MODELS_DIR, REPO_ROOT
 
 DEFAULT_CHAT_MODEL = MODELS_DIR / "chat.pt"
 
@@ -143,5 +143,5 @@ class ChatConfig(StrictModel):
 
 
 def load_chat_config(path: str | Path | None = None) -> ChatConfig:
-    """Load ``app/defaults/chat.yaml``, overridden by the YAML file at ``path`` when given."""
+    """Load ``config/chat.yaml``, overridden by the YAML file at ``path`` when given."""
     return load_model(ChatConfig, "chat.yaml", path)

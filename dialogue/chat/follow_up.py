@@ -2,7 +2,7 @@
 
 The seq2seq answers one line at a time, so "She hasn't called me this week." after "My
 daughter moved to Leeds." would be answered as if "she" could be anyone. Three small rules,
-with the word lists of ``follow_up`` in ``app/defaults/chat.yaml``:
+with the word lists of ``follow_up`` in ``config/chat.yaml``:
 
 * **People**: "she"/"her" ("he"/"him") in a line that names nobody itself becomes the most
   recent "my <relative>" of the matching list in the person's last ``turns`` lines

@@ -13,9 +13,9 @@ from typing import Any
 
 import torch
 
-from app.core.checkpoint import atomic_torch_save, read_weights
-from app.core.errors import UserError
-from app.core.torch_threads import torch_threads
+from core.checkpoint import atomic_torch_save, read_weights
+from core.errors import UserError
+from core.torch_threads import torch_threads
 from dialogue.chat.config import (
     ChatDataConfig,
     ChatDecodeConfig,
@@ -95,7 +95,7 @@ class ChitChatModel:
              follow_up: ChatFollowUpConfig | None = None, papaya_dir: Path | None = None,
              **decode: Any) -> ChitChatModel:
         """Load a model file and the retrieval pool beside it; ``rank`` and ``follow_up``
-        default to ``app/defaults/chat.yaml``'s, keyword arguments override the file's
+        default to ``config/chat.yaml``'s, keyword arguments override the file's
         decoding settings. The pool's texts are read in place from ``papaya_dir`` (default:
         the Papaya folder of the data config stored in the model, from the repository root)
         and the chatterbot-corpus package. Without a pool the ranking keeps to the beam's

@@ -23,8 +23,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.errors import UserError
+from core.checkpoint import atomic_write_bytes
+from core.errors import UserError
 from dialogue.chat.sources import Ref, SourceTexts
 from dialogue.chat.text import Pair, pair_tokens
 

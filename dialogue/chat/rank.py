@@ -14,7 +14,7 @@ length penalty, ``<eos>`` counted: the beam's own scores, and the retrieved repl
 forced through the seq2seq) ``+ match * similarity(line, its training input)``
 (0 for beam replies) ``+ topic * similarity(line, reply) - generic_penalty * share``, where
 ``share`` is the part of the reply's sentences that are, word for word, replies listed under
-``rank.generic`` in ``app/defaults/chat.yaml`` ("I'm not sure. I don't know." has 1).
+``rank.generic`` in ``config/chat.yaml`` ("I'm not sure. I don't know." has 1).
 """
 
 from __future__ import annotations

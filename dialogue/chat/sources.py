@@ -22,8 +22,8 @@ from typing import Any
 
 import yaml
 
-from app.core.errors import UserError
-from app.core.files import read_text
+from core.errors import UserError
+from core.files import read_text
 
 FILE_LIMIT = 64 << 20   # bytes: a Papaya file (the largest shipped one has 87 kB)
 FUNC = re.compile(r"_func_val_\S*")  # a client function (show a picture, tell the time)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.core.errors import UserError
+from core.errors import UserError
 
 
 @dataclass(frozen=True)

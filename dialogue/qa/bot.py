@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from app.core.config_files import read_yaml
+from core.config_files import read_yaml
 from dialogue.qa import CATEGORIES
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.clock import Clock, answer_time, utc_now
@@ -31,7 +31,7 @@ class QABot:
     returns the current aware datetime, ``home_city`` answers questions naming no city
     (default: the weather provider's home city) and ``songs`` are the songs the robot can
     sing and dance (default: the shipped routines); ``encyclopedia`` answers what the knowledge
-    base does not hold ("shipped": WordNet where ``app/defaults/conversation.yaml`` says;
+    base does not hold ("shipped": WordNet where ``config/conversation.yaml`` says;
     None: the knowledge base alone).
     """
 

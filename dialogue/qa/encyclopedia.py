@@ -89,7 +89,7 @@ class Encyclopedia:
 
     @staticmethod
     def shipped() -> Encyclopedia | None:
-        """Over the WordNet folder of ``app/defaults/conversation.yaml``; None (with a warning
+        """Over the WordNet folder of ``config/conversation.yaml``; None (with a warning
         in the log) when it is not installed."""
         folder = load_conversation_config().knowledge.wordnet_dir
         wordnet = WordNet.load(folder)

@@ -75,7 +75,7 @@ def _label(name: str) -> str:
 
 
 def plan_from_scenario(scenario: Any) -> Household:
-    """The household of an ``app.sim.scenario.Scenario`` as plain data (people at their start)."""
+    """The household of an ``sim.scenario.Scenario`` as plain data (people at their start)."""
     furniture = {f.name: f for f in scenario.furniture}
     rooms = [{"name": r.name, "x": list(r.x), "y": list(r.y)} for r in scenario.rooms]
     items = [{"name": f.name, "x": f.x, "y": f.y, "kind": "furniture", "type": f.type}

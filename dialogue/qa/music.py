@@ -1,6 +1,6 @@
 """Play-music category: start the sing/dance skill with one of the songs the robot knows.
 
-The songs the robot knows are its dance routines (``app/defaults/dances.yaml``, or the
+The songs the robot knows are its dance routines (``config/dances.yaml``, or the
 routines file a run uses): asked for one of them, by its title or another name, it says so
 and the skill dances that routine; asked for a song it does not know, it says which ones
 it can sing; asked for "a song", it sings the first one.
@@ -13,16 +13,16 @@ from collections.abc import Mapping, Sequence
 from functools import cache
 from urllib.parse import quote_plus
 
-from app.sim.dances import song_names
 from dialogue.qa.base import Action, Answer
 from dialogue.qa.text import normalise, word_set
+from robot.dances import song_names
 
 Songs = Mapping[str, Sequence[str]]   # title -> the phrases that ask for it
 
 
 @cache
 def shipped_songs() -> Songs:
-    """The songs of the shipped routines file (``app/defaults/dances.yaml``)."""
+    """The songs of the shipped routines file (``config/dances.yaml``)."""
     return song_names()
 
 GENERIC = word_set("""a an the some any music song songs something anything tune tunes calm

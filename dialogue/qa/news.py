@@ -8,7 +8,7 @@ from pathlib import Path
 
 import feedparser
 
-from app.core.files import read_bytes
+from core.files import read_bytes
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.text import content_words, normalise, word_set
 
@@ -50,7 +50,7 @@ def _parse(data: bytes) -> feedparser.FeedParserDict:
 
 
 def check_feed(path: str | Path) -> None:
-    """Refuse a file that cannot be read (a :class:`~app.core.files.FileReadError`) or is not
+    """Refuse a file that cannot be read (a :class:`~core.files.FileReadError`) or is not
     an RSS or Atom feed (a :class:`DialogueError`), naming it."""
     if not _parse(read_bytes(path)).version:
         raise DialogueError(f"{path}: not an RSS or Atom feed")

@@ -25,11 +25,11 @@ from urllib.parse import quote
 
 from pydantic import ValidationError
 
-from app.core.config_files import format_loc
-from app.sim.scenario import Weather, WeatherDay
+from core.config_files import format_loc
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.places import find_place, lookup
 from dialogue.qa.text import normalise
+from sim.scenario import Weather, WeatherDay
 
 
 @dataclass(frozen=True)

@@ -25,12 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from app.core.torch_threads import torch_threads
-from app.sim.acoustics import RATE
-from app.sim.microphone_array import SPEED_OF_SOUND
+from core.torch_threads import torch_threads
 from dialogue.speech.config import DereverberationConfig
 from dialogue.speech.dereverberation import dereverberate
 from dialogue.speech.enhancer import HOP, N_FFT, VoiceEnhancer, log_power, spectrum
+from robot.audio import RATE, SPEED_OF_SOUND
 
 # the bins a voice's direction is read from: all but the lowest, where microphones 7-10 cm
 # apart hardly differ in phase, and the edge of the band (docs/speech.md, *Where a voice

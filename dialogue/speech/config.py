@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/speech.yaml``: the recogniser's model files and thresholds, and
+"""Schema of ``config/speech.yaml``: the recogniser's model files and thresholds, and
 how the household language model is estimated."""
 
 from __future__ import annotations
@@ -8,9 +8,9 @@ from typing import Self
 
 from pydantic import Field, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.errors import UserError
-from app.core.paths import REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.errors import UserError
+from core.paths import REPO_ROOT
 
 
 class SpeechModelError(UserError):
@@ -178,7 +178,7 @@ class EnhancerTrainConfig(StrictModel):
 
 
 class SpeechConfig(StrictModel):
-    """``app/defaults/speech.yaml``."""
+    """``config/speech.yaml``."""
 
     model: SpeechModelConfig
     min_confidence: float = Field(ge=0, le=1)

@@ -21,8 +21,8 @@ import numpy as np
 import torch
 from torch import nn
 
-from app.core.checkpoint import fp32_state, read_weights
-from app.core.torch_threads import torch_threads
+from core.checkpoint import fp32_state, read_weights
+from core.torch_threads import torch_threads
 from dialogue.speech.config import SpeechModelError
 
 N_FFT = 512             # 32 ms frames at 16 kHz: 257 frequency bins

@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from app.sim.acoustics import RATE, REFERENCE_DB, resampled
 from dialogue.speech.beamformer import Steering, front_end, voice_direction
 from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
+from robot.audio import RATE, REFERENCE_DB, resampled
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech

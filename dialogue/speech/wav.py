@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
-from app.core.files import read_bytes
+from core.errors import UserError
+from core.files import read_bytes
 
 WAV_LIMIT = 64 << 20      # bytes: about 30 minutes of 16 kHz 16-bit audio
 MIN_RATE, MAX_RATE = 8_000, 96_000

@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/style.yaml``: data split, model sizes, training schedule, decoding.
+"""Schema of ``config/style.yaml``: data split, model sizes, training schedule, decoding.
 
 Every number that shapes the style-transfer system lives in that YAML file; a user file given
 with ``--config`` is deep-merged over it and unknown keys are errors.
@@ -10,8 +10,8 @@ from pathlib import Path
 
 from pydantic import Field, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import MODELS_DIR, REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.paths import MODELS_DIR, REPO_ROOT
 
 
 class DataConfig(StrictModel):
@@ -144,7 +144,7 @@ class ConversationConfig(StrictModel):
     """Conversational lines added to the training split of the transfer model (not of its
     judges), each labelled by the sentiment judge; see docs/style_transfer.md."""
 
-    chat: bool = False       # the chit-chat TRAIN split's replies (app/defaults/chat.yaml)
+    chat: bool = False       # the chit-chat TRAIN split's replies (config/chat.yaml)
     qa: bool = False         # the QA bot's answers to the intent training questions
     repeat: int = Field(default=1, ge=1)   # each line this many times in the training set
     min_confidence: float = Field(default=0.5, ge=0.5, lt=1)   # the judge's, to keep a line
@@ -164,7 +164,7 @@ class StyleConfig(StrictModel):
 
 
 def load_style_config(path: str | Path | None = None) -> StyleConfig:
-    """Load ``app/defaults/style.yaml``, overridden by the YAML file at ``path`` when given."""
+    """Load ``config/style.yaml``, overridden by the YAML file at ``path`` when given."""
     return load_model(StyleConfig, "style.yaml", path)
 
 

@@ -12,8 +12,8 @@ from typing import Any
 
 from torch import nn
 
-from app.core.checkpoint import atomic_torch_save, read_weights
-from app.core.errors import UserError
+from core.checkpoint import atomic_torch_save, read_weights
+from core.errors import UserError
 from dialogue.style.config import (
     ClassifierConfig,
     DecodeConfig,

@@ -18,7 +18,7 @@ and it has as many numbers as the reply (put back as the reply wrote them).
 
 Otherwise the robot says the unstyled reply after an opening of the mood ("Sadly, ..."),
 and with a closing of the mood too when no opening alone convinces the judge (both lists
-in ``app/defaults/mood_style.yaml``), except where such a phrase would contradict the
+in ``config/mood_style.yaml``), except where such a phrase would contradict the
 reply: a reply with a word of ``fallback.contrary`` (an apology in a cheerful mood, thanks
 in a gloomy one), or a question unless ``fallback.questions``, is said as it is (``kept``),
 and not offered to the model either, whose rewrite would turn its meaning round ("I
@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import torch
 
-from app.core.torch_threads import torch_threads
+from core.torch_threads import torch_threads
 from dialogue.style.config import CLASSIFIER_FILE, STYLE_FILE
 from dialogue.style.files import STOPWORDS, load_classifier
 from dialogue.style.mood_config import BIGRAM_FILE, MoodStyleConfig, load_mood_config

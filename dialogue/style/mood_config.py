@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/mood_style.yaml``: the gate that decides whether the robot says
+"""Schema of ``config/mood_style.yaml``: the gate that decides whether the robot says
 the style-transfer model's reply or the unstyled one with a mood opening, and the training
 settings of the bigram language model the gate scores fluency with."""
 
@@ -8,8 +8,8 @@ from pathlib import Path
 
 from pydantic import Field, field_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.paths import REPO_ROOT
 
 
 class GateConfig(StrictModel):
@@ -68,7 +68,7 @@ class MoodStyleConfig(StrictModel):
 
 
 def load_mood_config(path: str | Path | None = None) -> MoodStyleConfig:
-    """Load ``app/defaults/mood_style.yaml``, overridden by the YAML file at ``path``."""
+    """Load ``config/mood_style.yaml``, overridden by the YAML file at ``path``."""
     return load_model(MoodStyleConfig, "mood_style.yaml", path)
 
 

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
+from core.errors import UserError
 
 BOS, EOS, UNK_WORD = "<s>", "</s>", "<unk>"
 FORMAT = "companion-bigram-1"

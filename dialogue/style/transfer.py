@@ -29,7 +29,7 @@ from pathlib import Path
 
 import torch
 
-from app.core.torch_threads import torch_threads
+from core.torch_threads import torch_threads
 from dialogue.style.config import DEFAULT_MODEL_DIR, STYLE_FILE, DecodeConfig
 from dialogue.style.decode import transfer_ids
 from dialogue.style.files import STOPWORDS, load_transfer

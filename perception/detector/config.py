@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/detector.yaml`` (the detector's data recipe)."""
+"""Schema of ``config/detector.yaml`` (the detector's data recipe)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from typing import Any, Self
 
 from pydantic import Field, NonNegativeFloat, NonNegativeInt, PositiveInt, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import MODELS_DIR
+from core.config_files import StrictModel, load_model
+from core.paths import MODELS_DIR
 
 
 class SplitsConfig(StrictModel):
@@ -94,7 +94,7 @@ class DetectConfig(StrictModel):
 
 
 class DetectorConfig(StrictModel):
-    """Schema of ``app/defaults/detector.yaml``."""
+    """Schema of ``config/detector.yaml``."""
 
     data: DataConfig
     train: TrainConfig

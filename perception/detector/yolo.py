@@ -3,7 +3,7 @@
 ``Detector.detect(frame)`` takes an RGB camera frame (H, W, 3, uint8) and returns
 :class:`Detection` boxes in pixels. The find-people skill only sees this interface, so a
 robot with a real camera can plug in its own YOLO weights (``detect.weights`` in
-``app/defaults/detector.yaml``) or another detector entirely.
+``config/detector.yaml``) or another detector entirely.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typing import Protocol
 
 import numpy as np
 
-from app.core.errors import UserError
+from core.errors import UserError
 from perception.detector.config import DEFAULT_DETECTOR, DetectConfig, load_detector_config
 from perception.detector.onnx_runtime import OnnxYolo
 from perception.detector.ultralytics_offline import ultralytics_module
@@ -85,7 +85,7 @@ class YoloDetector:
                  conf: float | None = None, iou: float | None = None,
                  threads: int | None = None) -> None:
         """``weights`` None: the shipped detector; other arguments left at None take the
-        value of ``detect:`` in ``app/defaults/detector.yaml`` (an ONNX export's input size
+        value of ``detect:`` in ``config/detector.yaml`` (an ONNX export's input size
         is fixed in the file)."""
         path = Path(weights) if weights is not None else DEFAULT_DETECTOR
         if not path.is_file():

@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/facing.yaml``: the crops, the network, training and the bars."""
+"""Schema of ``config/facing.yaml``: the crops, the network, training and the bars."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from typing import Self
 
 from pydantic import Field, NonNegativeInt, PositiveFloat, PositiveInt, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import MODELS_DIR
+from core.config_files import StrictModel, load_model
+from core.paths import MODELS_DIR
 from perception.detector.config import SplitsConfig
 
 DEFAULT_FACING_MODEL = MODELS_DIR / "facing.pt"
@@ -70,7 +70,7 @@ class FacingEvalConfig(StrictModel):
 
 
 class FacingConfig(StrictModel):
-    """Schema of ``app/defaults/facing.yaml``."""
+    """Schema of ``config/facing.yaml``."""
 
     data: FacingDataConfig
     model: FacingModelConfig

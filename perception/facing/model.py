@@ -21,9 +21,9 @@ import numpy as np
 import torch
 from torch import nn
 
-from app.core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
-from app.core.errors import UserError
-from app.core.torch_threads import torch_threads
+from core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
+from core.errors import UserError
+from core.torch_threads import torch_threads
 from perception.facing.config import CropConfig, FacingModelConfig
 
 Box = tuple[float, float, float, float]

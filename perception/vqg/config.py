@@ -1,4 +1,4 @@
-"""Schema of ``app/defaults/vqg.yaml``: data, model sizes, training schedule and decoding.
+"""Schema of ``config/vqg.yaml``: data, model sizes, training schedule and decoding.
 
 Every number that shapes the visual question generator lives in that YAML file; a user file
 given with ``--config`` is deep-merged over it and unknown keys are errors.
@@ -11,8 +11,8 @@ from typing import Literal, Self
 
 from pydantic import Field, PositiveInt, model_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import MODELS_DIR, REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.paths import MODELS_DIR, REPO_ROOT
 
 DEFAULT_VERIFIER = MODELS_DIR / "vqg_verifier.pt"  # perception/vqg/verify.py
 ABLATIONS = ("no_d1", "no_d2", "gaussian")
@@ -177,5 +177,5 @@ class VqgConfig(StrictModel):
 
 
 def load_vqg_config(path: str | Path | None = None) -> VqgConfig:
-    """Load ``app/defaults/vqg.yaml``, overridden by the YAML file at ``path`` when given."""
+    """Load ``config/vqg.yaml``, overridden by the YAML file at ``path`` when given."""
     return load_model(VqgConfig, "vqg.yaml", path)

@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 import torch
 
-from app.core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
-from app.core.errors import UserError
-from app.core.torch_threads import torch_threads
+from core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
+from core.errors import UserError
+from core.torch_threads import torch_threads
 from perception.vqg.config import (
     REPO_ROOT,
     DecodeConfig,
@@ -90,7 +90,7 @@ class VqgQuestionGenerator:
              decode: DecodeConfig | None = None) -> VqgQuestionGenerator:
         """Load a model file; a missing or broken one raises :class:`VqgModelError`.
 
-        Decoding follows ``decode``, by default ``decode`` of ``app/defaults/vqg.yaml``;
+        Decoding follows ``decode``, by default ``decode`` of ``config/vqg.yaml``;
         with its ``fact_check`` the fact verifier is loaded too."""
         path = Path(path)
         blob = read_weights(path, VqgModelError, "train one with `companion train vqg`")

@@ -20,7 +20,7 @@ import torch
 import torch.nn.functional as F  # noqa: N812
 from torch import nn
 
-from app.core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
+from core.checkpoint import atomic_torch_save, fp16_state, fp32_state, read_weights
 from perception.vqg.config import DEFAULT_VERIFIER, ModelConfig
 from perception.vqg.model import ImageEncoder
 from perception.vqg.questions import frame_key, parse_question

@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from app.core.interrupts import training_command
+from core.interrupts import training_command
 from dialogue.chat.config import DEFAULT_CHAT_MODEL
 
 PERPLEXITY_RATIO_BAR = 3.0
@@ -30,7 +30,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "English chatterbot corpus. Writes checkpoint.pt (resumable), "
                        "train_log.csv, eval_log.csv, data_counts.json and chat.pt (best "
                        "validation perplexity) into --out.")
-    p.add_argument("--config", type=Path, help="chat YAML overriding app/defaults/chat.yaml")
+    p.add_argument("--config", type=Path, help="chat YAML overriding config/chat.yaml")
     p.add_argument("--out", type=Path, default=Path("runs/train-chat"), help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
                    "with the run's own resolved_config.yaml")
@@ -61,7 +61,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
 @training_command("chat")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train chat``."""
-    from app.core.run_config import config_for
+    from core.run_config import config_for
     from dialogue.chat.config import ChatConfig, load_chat_config
     from dialogue.chat.training.train import MODEL_FILE, train
 
@@ -69,7 +69,7 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume,
                     progress=not getattr(args, "no_progress", False))
     if args.export:
-        from app.core.checkpoint import atomic_copy
+        from core.checkpoint import atomic_copy
         from dialogue.chat.pool import pool_path
 
         atomic_copy(args.out / MODEL_FILE, args.export)

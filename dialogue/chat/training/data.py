@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
+from core.errors import UserError
 from dialogue.chat import sources
 from dialogue.chat.config import ChatDataConfig
 from dialogue.chat.sources import Ref, chatterbot_conversations, papaya_lines, papaya_pair

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from app.core.errors import UserError
+from core.errors import UserError
 
 
 class RelevanceUnavailableError(UserError):

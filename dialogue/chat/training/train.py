@@ -1,10 +1,10 @@
 """Training the chit-chat bot: one readable loop in the CleanRL manner.
 
-Every hyper-parameter comes from ``app/defaults/chat.yaml`` (or a ``--config`` file over it).
+Every hyper-parameter comes from ``config/chat.yaml`` (or a ``--config`` file over it).
 The loop writes as it goes: ``train_log.csv`` (flushed every ``log_every`` batches),
 ``eval_log.csv`` (one row per epoch), an atomic resumable ``checkpoint.pt`` every
 ``checkpoint_every`` epochs and, on SIGINT or SIGTERM, before the next batch
-(:mod:`app.core.interrupts`), and ``chat.pt``, the weights with the best validation
+(:mod:`core.interrupts`), and ``chat.pt``, the weights with the best validation
 perplexity so far (the model file to export). A resumed run keeps the log rows up to its
 checkpoint and goes on exactly as an uninterrupted one.
 """
@@ -20,8 +20,8 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
-from app.core.checkpoint import TrainingFolder
-from app.core.interrupts import stop_point, stop_requests
+from core.checkpoint import TrainingFolder
+from core.interrupts import stop_point, stop_requests
 from dialogue.chat.batch import batches
 from dialogue.chat.config import ChatConfig
 from dialogue.chat.model import save_chat_model

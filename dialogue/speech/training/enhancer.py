@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from app.core.checkpoint import (
+from core.checkpoint import (
     atomic_torch_save,
     atomic_write_bytes,
     fp16_state,

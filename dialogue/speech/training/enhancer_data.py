@@ -4,7 +4,7 @@ recorded at the robot's microphones with a TV-like programme of other voices in 
 Each example keeps its two parts apart (what the voice alone and the background alone
 would have recorded, :meth:`Acoustics.parts_at_microphones`), which is what the network
 learns to tell apart. The programmes are made here, never the one the household runs and
-``companion eval asr`` play (:mod:`app.sim.soundscape`): other voices (no household
+``companion eval asr`` play (:mod:`sim.soundscape`): other voices (no household
 voice, and not the presenter's voice or the visitors' of ``eval asr --unseen-voices``),
 saying lines of the chatterbot corpus, over noise.
 """
@@ -17,14 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from app.sim.acoustics import RATE, resampled
-from app.sim.soundscape import LOOP_S, pink_noise, unit
-from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
 from dialogue.chat.sources import chatterbot_conversations
 from dialogue.chat.training.data import chatterbot_dir
 from dialogue.speech.config import EnhancerTrainConfig
 from dialogue.speech.enhancer import log_power, spectrum
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room, speaker_within
+from robot.audio import RATE, resampled
+from robot.voices import PEOPLE_VOICES, Voice, synthesise
+from sim.soundscape import LOOP_S, pink_noise, unit
 
 
 @dataclass

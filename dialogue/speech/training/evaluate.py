@@ -2,7 +2,7 @@
 
 Each held-out line (the intent router's and the feedback model's held-out files, never in
 the language model's corpus) is spoken by one of the people's voices and carried to the
-robot's microphones by the room acoustics of a household run (app/sim/acoustics.py), from
+robot's microphones by the room acoustics of a household run (sim/acoustics.py), from
 1, 3 and 5 m, in a quiet room and with the TV on. The report gives the word error rate, the
 share of lines the robot would act on (confidence at or above the threshold) and, for the
 intent lines, the router's accuracy on the transcript against its accuracy on the text.
@@ -17,16 +17,16 @@ from dataclasses import dataclass
 import jiwer
 import numpy as np
 
-from app.sim.acoustics import RATE
-from app.sim.robot_config import load_robot_config
-from app.sim.soundscape import noise_loops
-from app.sim.voices import PEOPLE_VOICES, Voice, synthesise
 from dialogue.intent import IntentClassifier
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import SpeechRecognizer, Transcript
 from dialogue.speech.training.corpus import HELD_OUT_FILES, tsv_lines
 from dialogue.speech.training.rooms import NOISES, living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
+from robot.audio import RATE
+from robot.voices import PEOPLE_VOICES, Voice, synthesise
+from sim.robot_config import load_robot_config
+from sim.soundscape import noise_loops
 
 DISTANCES_M = (1.0, 3.0, 5.0)
 VOICES = 4

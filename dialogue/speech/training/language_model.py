@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from app.core.checkpoint import atomic_write_bytes
+from core.checkpoint import atomic_write_bytes
 
 START, END = "<s>", "</s>"
 NO_PROB = -99.0   # the log10 probability ARPA files give the sentence start

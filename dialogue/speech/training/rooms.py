@@ -8,9 +8,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from app.sim.acoustics import Acoustics, Point
-from app.sim.layout import Room, RoomNoise
-from app.sim.robot_config import load_robot_config
+from sim.acoustics import Acoustics, Point
+from sim.layout import Room, RoomNoise
+from sim.robot_config import load_robot_config
 
 TV_DB = 60.0              # the TV one metre in front of it: a normal volume
 ROBOT_FROM_WALL_M = 1.0   # the robot stands this far from the near wall, in the middle

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
+from core.errors import UserError
 
 LOG_BASE = 1.0001        # the base of the quantised logarithms
 SHIFT_BITS = 10          # each stored byte is the logarithm shifted right by this (default)

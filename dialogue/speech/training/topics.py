@@ -7,8 +7,8 @@ single-word nouns and its named people, ranked by how common their words are in 
 English, as the unigram probabilities of the general en-US language model inside the
 pocketsphinx wheel measure it; the ``nouns`` and ``people`` most common are kept. Each is
 said once in a question frame drawn from ``noun_frames`` or ``people_frames``
-(``topics`` in ``app/defaults/speech.yaml``). WordNet is the folder the knowledge answers
-read (``knowledge.wordnet_dir`` in ``app/defaults/conversation.yaml``).
+(``topics`` in ``config/speech.yaml``). WordNet is the folder the knowledge answers
+read (``knowledge.wordnet_dir`` in ``config/conversation.yaml``).
 """
 
 from __future__ import annotations

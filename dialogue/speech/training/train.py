@@ -10,8 +10,8 @@ from pathlib import Path
 
 import yaml
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.paths import WORLDS_DIR
+from core.checkpoint import atomic_write_bytes
+from core.paths import WORLDS_DIR
 from dialogue.speech.config import SpeechConfig
 from dialogue.speech.recognizer import wheel_model_dir
 from dialogue.speech.training.corpus import (

@@ -11,8 +11,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from app.core.cli_args import integer
-from app.core.interrupts import training_command
+from core.cli_args import integer
+from core.interrupts import training_command
 from dialogue.style.config import (
     CLASSIFIER_FILE,
     DEFAULT_MODEL_DIR,
@@ -34,7 +34,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "and the cross-aligned style-transfer model. Writes checkpoint.pt "
                        "(resumable), log_*.csv, valid_log.csv, summary.json and the model "
                        "files style.pt, classifier.pt and lm.pt into --out.")
-    p.add_argument("--config", type=Path, help="style YAML overriding app/defaults/style.yaml")
+    p.add_argument("--config", type=Path, help="style YAML overriding config/style.yaml")
     p.add_argument("--out", type=Path, default=Path("runs/train-style"), help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
                    "with the run's own resolved_config.yaml")
@@ -104,7 +104,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
 @training_command("style")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train style``."""
-    from app.core.run_config import config_for
+    from core.run_config import config_for
     from dialogue.style.training.train import train
 
     cfg = config_for(args, StyleConfig, lambda: _train_config(args), "config", "data",
@@ -112,7 +112,7 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     judges=args.judges, init=args.init)
     if args.export:
-        from app.core.checkpoint import atomic_copy
+        from core.checkpoint import atomic_copy
 
         args.export.mkdir(parents=True, exist_ok=True)
         for name in MODEL_FILES:
@@ -137,7 +137,7 @@ def _train_config(args: argparse.Namespace) -> StyleConfig:
 
 def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval style``."""
-    from app.core.torch_threads import torch_threads
+    from core.torch_threads import torch_threads
     from dialogue.style.training.evaluate import evaluate, examples_markdown, format_summary
 
     with torch_threads(args.threads):
@@ -157,7 +157,7 @@ def run_eval(args: argparse.Namespace) -> int:
 def run_style(args: argparse.Namespace) -> int:
     """Handler of ``companion style``: one output line per input line on standard output, a
     notice on standard error for each sentence printed unchanged (exit status 1)."""
-    from app.core.errors import UserError
+    from core.errors import UserError
     from dialogue.style.text import split_sentences
     from dialogue.style.transfer import StyleTransfer
 
@@ -210,10 +210,10 @@ class Report:
 
 
 def _read_lines(path: Path | None) -> list[str]:
-    """The lines of the file ``path`` (see :func:`app.core.files.read_text`), or of standard
+    """The lines of the file ``path`` (see :func:`core.files.read_text`), or of standard
     input without one or for '-'."""
-    from app.core.errors import UserError
-    from app.core.files import TEXT_LIMIT, read_text
+    from core.errors import UserError
+    from core.files import TEXT_LIMIT, read_text
 
     if path is not None and str(path) != "-":
         return read_text(path).splitlines()

@@ -2,7 +2,7 @@
 
 Yelp reviews teach the transfer model sentiment but not conversation, so its training set
 gets the lines the robot actually says: the reply side of the chit-chat training pairs
-(Papaya and the chatterbot corpus, ``app/defaults/chat.yaml``'s split) and the QA bot's
+(Papaya and the chatterbot corpus, ``config/chat.yaml``'s split) and the QA bot's
 answers to the intent training questions. The held-out lines for ``companion eval
 mood-style`` come from the other side of each split: the chit-chat test and validation
 replies and the QA bot's answers to the held-out routing and knowledge questions; a

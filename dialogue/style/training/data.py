@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.errors import UserError
-from app.core.files import FileReadError, read_text
+from core.errors import UserError
+from core.files import FileReadError, read_text
 from dialogue.style.config import DataConfig
 from textnets.vocab import Vocab
 

@@ -8,7 +8,7 @@ import argparse
 import json
 from pathlib import Path
 
-from app.core.cli_args import integer
+from core.cli_args import integer
 
 
 def add_train(sub: argparse._SubParsersAction) -> None:
@@ -16,9 +16,9 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("mood-lm", help="count the mood gate's bigram language model",
                        description="Count the Kneser-Ney bigram model that the mood gate "
                        "scores fluency with, from the Yelp training split and the robot's "
-                       "conversational training lines (app/defaults/mood_style.yaml, "
+                       "conversational training lines (config/mood_style.yaml, "
                        "bigram section).")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/mood_style.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/mood_style.yaml")
     p.add_argument("--out", type=Path, help="file to write (default: bigram.npz in the "
                    "config's model_dir)")
     p.set_defaults(func=run_train_lm)
@@ -33,7 +33,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
                        "mood gate; report per mood the judge's flip rate, the perplexity "
                        "ratio, the content words kept and the share said by the model, by the "
                        "fallback and unchanged.")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/mood_style.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/mood_style.yaml")
     p.add_argument("--limit", type=integer(1, 100_000), default=500,
                    help="held-out lines to say (default 500)")
     p.add_argument("--json", action="store_true", help="print one JSON object")

@@ -1,6 +1,6 @@
 """``companion train mood-lm``: the bigram language model of the mood gate.
 
-It learns from the Yelp training split of the style-transfer data (``app/defaults/style.yaml``)
+It learns from the Yelp training split of the style-transfer data (``config/style.yaml``)
 and from the robot's conversational training lines (the chit-chat TRAIN split's replies and
 the QA bot's answers to the intent training questions, any length), the latter counted
 ``bigram.conversation_repeat`` times so that conversation weighs more than its size. No line

@@ -25,8 +25,8 @@ from pathlib import Path
 
 import torch
 
-from app.core.checkpoint import atomic_copy
-from app.core.interrupts import stop_requests, stops_first
+from core.checkpoint import atomic_copy
+from core.interrupts import stop_requests, stops_first
 from dialogue.style.config import CLASSIFIER_FILE, LM_FILE, STYLE_FILE, StyleConfig
 from dialogue.style.decode import transfer_ids
 from dialogue.style.files import StyleModelError, load_classifier, load_lm, save_model

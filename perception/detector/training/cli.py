@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from app.core.cli_args import integer, real, seed
+from core.cli_args import integer, real, seed
 
 
 def add_data(sub: argparse._SubParsersAction) -> None:
@@ -23,7 +23,7 @@ def add_data(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--val", type=integer(0, 1_000_000), help="validation frames")
     p.add_argument("--test", type=integer(0, 1_000_000), help="test frames")
     p.add_argument("--seed", type=seed(), help="base seed (default from the config)")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/detector.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_data)
 
@@ -59,7 +59,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--data", type=Path, default=Path("runs/detector-data"),
                    help="data set folder (or its data.yaml)")
     p.add_argument("--out", type=Path, default=Path("runs/train-detector"), help="run folder")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/detector.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/detector.yaml")
     p.add_argument("--epochs", type=integer(1, 10_000), help="override train.epochs")
     p.add_argument("--resume", action="store_true", help="continue the run in --out")
     p.add_argument("--export", type=Path,

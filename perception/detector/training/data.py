@@ -1,8 +1,8 @@
 """Labelled frames for the person-and-face detector, rendered from the robot's head camera.
 
 Each frame is one randomised room (wall and floor colours, TinyRenderer light), a few
-furniture items built with :func:`app.sim.furnishings.furniture_parts`, and 0-4 people from
-:mod:`app.sim.people`, seen by a :class:`app.sim.robot.Robot` standing at the origin facing +x.
+furniture items built with :func:`sim.furnishings.furniture_parts`, and 0-4 people from
+:mod:`sim.people`, seen by a :class:`sim.robot.Robot` standing at the origin facing +x.
 Boxes come from the segmentation mask; docs/detector.md gives the rule for tiny and
 occluded instances. :func:`write_dataset` writes an ultralytics YOLO data set.
 """
@@ -20,13 +20,13 @@ import numpy as np
 import pybullet as p
 import yaml
 
-from app.core.checkpoint import atomic_write_bytes
-from app.sim.furnishings import furniture_parts
-from app.sim.people import POSES, Appearance, Part, Person, PoseName, build_body
-from app.sim.robot import Robot, decode_segmentation
-from app.sim.world import WALL_THICKNESS
-from app.sim.world_types import Light
+from core.checkpoint import atomic_write_bytes
 from perception.detector.config import DataConfig
+from sim.furnishings import furniture_parts
+from sim.lighting import Light
+from sim.people import POSES, Appearance, Part, Person, PoseName, build_body
+from sim.robot import Robot, decode_segmentation
+from sim.world import WALL_THICKNESS
 
 Rgb = tuple[float, float, float]
 CLASSES = ("person", "face")
@@ -57,7 +57,7 @@ class PersonSpec:
 
 @dataclass(frozen=True)
 class FurnitureSpec:
-    """A furniture item (``app.sim.furnishings.furniture_parts`` kind) on the floor."""
+    """A furniture item (``sim.furnishings.furniture_parts`` kind) on the floor."""
 
     kind: str
     size: tuple[float, float, float]

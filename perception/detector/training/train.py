@@ -13,8 +13,8 @@ from typing import Any
 
 import cv2
 
-from app.core.checkpoint import atomic_copy
-from app.core.errors import UserError
+from core.checkpoint import atomic_copy
+from core.errors import UserError
 from perception.detector.config import TrainConfig, load_detector_config
 from perception.detector.ultralytics_offline import ultralytics_module
 from perception.detector.yolo import DetectorFileError, YoloDetector

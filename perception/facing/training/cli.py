@@ -9,7 +9,7 @@ import argparse
 import json
 from pathlib import Path
 
-from app.core.interrupts import training_command
+from core.interrupts import training_command
 
 DEFAULT_DATA = Path("runs/facing-data")
 
@@ -21,7 +21,7 @@ def add_data(sub: argparse._SubParsersAction) -> None:
                        "their box and label where they look (train/val/test .npz in --out; "
                        "resumable by split).")
     p.add_argument("--out", type=Path, default=DEFAULT_DATA, help="data set folder")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/facing.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/facing.yaml")
     p.set_defaults(func=run_data)
 
 
@@ -33,7 +33,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "best validated facing.pt into --out.")
     p.add_argument("--data", type=Path, default=DEFAULT_DATA, help="data set folder")
     p.add_argument("--out", type=Path, default=Path("runs/train-facing"), help="run folder")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/facing.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/facing.yaml")
     p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
                    "with the run's own resolved_config.yaml")
     p.add_argument("--export", type=Path, help="also copy facing.pt here "
@@ -45,11 +45,11 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     """Register ``eval facing``."""
     p = sub.add_parser("facing", help="angular error and view accuracy of the facing network",
                        description="Score a facing model on the test split of a `data "
-                       "facing` set against the bars of app/defaults/facing.yaml.")
+                       "facing` set against the bars of config/facing.yaml.")
     p.add_argument("--data", type=Path, default=DEFAULT_DATA, help="data set folder")
     p.add_argument("--model", type=Path, help="facing.pt (default: the shipped one)")
     p.add_argument("--split", choices=["test", "val"], default="test")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/facing.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/facing.yaml")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run_eval)
 
@@ -67,8 +67,8 @@ def run_data(args: argparse.Namespace) -> int:
 @training_command("facing")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train facing``."""
-    from app.core.checkpoint import atomic_copy
-    from app.core.run_config import config_for
+    from core.checkpoint import atomic_copy
+    from core.run_config import config_for
     from perception.facing.config import FacingConfig, load_facing_config
     from perception.facing.training.train import MODEL_FILE, train
 
@@ -82,7 +82,7 @@ def run_train(args: argparse.Namespace) -> int:
 
 def run_eval(args: argparse.Namespace) -> int:
     """Handler of ``companion eval facing``."""
-    from app.core.errors import UserError
+    from core.errors import UserError
     from perception.facing.config import DEFAULT_FACING_MODEL, load_facing_config
     from perception.facing.model import FacingEstimator
     from perception.facing.training.data import load_split

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.core.checkpoint import atomic_write_bytes
-from app.core.errors import UserError
+from core.checkpoint import atomic_write_bytes
+from core.errors import UserError
 from perception.detector.config import load_detector_config
 from perception.detector.training.data import SPLITS, DetectorScene, SceneSpec
 from perception.facing.config import FacingDataConfig
@@ -108,7 +108,7 @@ def write_facing_dataset(out: Path, cfg: FacingDataConfig) -> dict[str, int]:
 
 def load_split(root: Path, split: str) -> dict[str, np.ndarray]:
     """One split of a facing data set (no pickled objects are read); an unreadable one
-    raises a :class:`~app.core.errors.UserError` naming it."""
+    raises a :class:`~core.errors.UserError` naming it."""
     path = root / f"{split}.npz"
     try:
         with np.load(path, allow_pickle=False) as data:

@@ -6,7 +6,7 @@ looks the other way, so the angle changes sign), takes AdamW steps on the label-
 cross-entropy of the angle bins under a cosine learning-rate schedule, then scores the
 validation crops; the best epoch by validation mean angular error is exported. The
 checkpoint after every epoch makes an interrupted training resumable (``--resume``): SIGINT
-or SIGTERM stops it when the epoch under way ends (:mod:`app.core.interrupts`).
+or SIGTERM stops it when the epoch under way ends (:mod:`core.interrupts`).
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ import numpy as np
 import torch
 import torch.nn.functional as F  # noqa: N812
 
-from app.core.checkpoint import TrainingFolder
-from app.core.interrupts import stop_point, stop_requests
-from app.core.torch_threads import torch_threads
+from core.checkpoint import TrainingFolder
+from core.interrupts import stop_point, stop_requests
+from core.torch_threads import torch_threads
 from perception.facing.config import FacingConfig
 from perception.facing.model import FacingEstimator, FacingModelError, FacingNet, angle_bin
 from perception.facing.training.data import load_split

@@ -12,11 +12,11 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from app.core.cli_args import integer, seed
-from app.core.errors import UserError
-from app.core.files import read_bytes
-from app.core.interrupts import training_command
-from app.core.paths import MODELS_DIR
+from core.cli_args import integer, seed
+from core.errors import UserError
+from core.files import read_bytes
+from core.interrupts import training_command
+from core.paths import MODELS_DIR
 
 if TYPE_CHECKING:
     import numpy as np
@@ -42,7 +42,7 @@ def add_data(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-household", action="store_true",
                    help="only the rendered scenes, none of the frames of the shipped worlds "
                    "(household.splits)")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg_data.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/vqg_data.yaml")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.set_defaults(func=run_data)
 
@@ -54,7 +54,7 @@ def add_train(sub: argparse._SubParsersAction) -> None:
                        "the adversarial phase with D1 and D2 (thesis §3.4). Writes "
                        "checkpoint.pt (resumable), log_*.csv, valid_log.csv, summary.json "
                        "and the best validated model vqg.pt into --out.")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/vqg.yaml")
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--out", type=Path, default=Path("runs/vqg-train"), help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the checkpoint in --out "
@@ -75,7 +75,7 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
                        "each of --images test images and score the distinct questions by "
                        "program (docs/vqg.md). With --ablations, first train the full model "
                        "and each ablation on a shortened schedule and print a table.")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml")
+    p.add_argument("--config", type=Path, help="YAML overriding config/vqg.yaml")
     p.add_argument("--data", type=Path, help="data set folder (default: data.dir)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to evaluate")
     p.add_argument("--images", type=integer(1, 100_000),
@@ -115,7 +115,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-n", type=integer(1, 1000), default=10, help="how many questions (default 10)")
     p.add_argument("--model", type=Path, default=DEFAULT_MODEL, help="vqg.pt to use")
     p.add_argument("--seed", type=seed(), default=0, help="seed of the latent codes")
-    p.add_argument("--config", type=Path, help="YAML overriding app/defaults/vqg.yaml (decode)")
+    p.add_argument("--config", type=Path, help="YAML overriding config/vqg.yaml (decode)")
     p.set_defaults(func=run_ask)
 
 
@@ -152,7 +152,7 @@ def run_data(args: argparse.Namespace) -> int:
 @training_command("vqg")
 def run_train(args: argparse.Namespace) -> int:
     """Handler of ``companion train vqg``."""
-    from app.core.run_config import config_for
+    from core.run_config import config_for
     from perception.vqg.config import VqgConfig
     from perception.vqg.training.train import train
 
@@ -161,7 +161,7 @@ def run_train(args: argparse.Namespace) -> int:
     summary = train(cfg, args.out, resume=args.resume, progress=not args.no_progress,
                     image_from=args.image_from)
     if args.export:
-        from app.core.checkpoint import atomic_copy
+        from core.checkpoint import atomic_copy
 
         atomic_copy(args.out / "vqg.pt", args.export)
     print(json.dumps(summary, indent=2))
@@ -239,8 +239,8 @@ def nothing_passed(s: Screening, decode: DecodeConfig) -> str:
 
 def read_image(path: Path) -> np.ndarray:
     """The RGB pixels ``(H, W, 3)`` of an image file of at most :data:`IMAGE_LIMIT` bytes,
-    read with :func:`app.core.files.read_bytes`; a file that is no image raises a
-    :class:`~app.core.errors.UserError` naming it."""
+    read with :func:`core.files.read_bytes`; a file that is no image raises a
+    :class:`~core.errors.UserError` naming it."""
     import cv2
     import numpy as np
 

@@ -5,7 +5,7 @@
 ``examples/`` (a few train frames with their questions listed in ``examples.txt``). Frame
 ``i`` of split ``k`` (train 0, val 1, test 2) is drawn from ``SeedSequence([seed, k, i])``;
 files are written atomically and finished frames are skipped, so a run can be resumed.
-The recipe is ``app/defaults/vqg_data.yaml`` (docs/vqg_data.md).
+The recipe is ``config/vqg_data.yaml`` (docs/vqg_data.md).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from app.core.checkpoint import atomic_write_bytes
+from core.checkpoint import atomic_write_bytes
 from perception.vqg.scene import SceneGraph, load_scene
 from perception.vqg.training.data_config import SPLITS, VqgDataConfig, load_vqg_data_config
 from perception.vqg.training.frames_io import collect, frame_done, questions_for, write_frame

@@ -1,4 +1,4 @@
-"""The schema of the VQG data set's config (app/defaults/vqg_data.yaml, docs/vqg_data.md):
+"""The schema of the VQG data set's config (config/vqg_data.yaml, docs/vqg_data.md):
 what the scenes hold, how visible a thing must be to count, and how many questions a frame gets."""
 
 from __future__ import annotations
@@ -7,8 +7,8 @@ from pathlib import Path
 
 from pydantic import Field, NonNegativeInt, PositiveInt, field_validator
 
-from app.core.config_files import StrictModel, load_model
-from app.core.paths import REPO_ROOT
+from core.config_files import StrictModel, load_model
+from core.paths import REPO_ROOT
 
 Span = tuple[float, float]
 Count = tuple[NonNegativeInt, NonNegativeInt]
@@ -98,7 +98,7 @@ class HouseholdConfig(StrictModel):
 
 
 class VqgDataConfig(StrictModel):
-    """Schema of ``app/defaults/vqg_data.yaml``."""
+    """Schema of ``config/vqg_data.yaml``."""
 
     splits: dict[str, NonNegativeInt]
     seed: NonNegativeInt

@@ -18,9 +18,9 @@ from pathlib import Path
 import cv2
 import torch
 
-from app.core.checkpoint import atomic_torch_save
-from app.core.errors import UserError
-from app.core.files import DATA_LIMIT, FileReadError, read_text
+from core.checkpoint import atomic_torch_save
+from core.errors import UserError
+from core.files import DATA_LIMIT, FileReadError, read_text
 from perception.vqg.frames import prepare_frame
 from textnets.vocab import Vocab
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from app.core.checkpoint import atomic_write_bytes
+from core.checkpoint import atomic_write_bytes
 from perception.detector.training.data import encode_png
 from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import VqgDataConfig

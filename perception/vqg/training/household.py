@@ -19,12 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from app.core.config_files import ConfigError
-from app.sim.furnishings import FURNITURE_COLOURS, OBJECT_COLOURS
-from app.sim.layout import rgb
-from app.sim.robot import decode_segmentation
-from app.sim.scenario import Scenario
-from app.sim.simulation import Simulation
+from core.config_files import ConfigError
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgQuestionGenerator
 from perception.vqg.questions import is_grounded, parse_question
@@ -43,6 +38,11 @@ from perception.vqg.training.data_config import VisibilityConfig
 from perception.vqg.training.dataset import VqgDataError, read_image
 from perception.vqg.training.evaluate import Item, question_metrics
 from perception.vqg.training.render import visible_graph
+from sim.furnishings import FURNITURE_COLOURS, OBJECT_COLOURS
+from sim.layout import rgb
+from sim.robot import decode_segmentation
+from sim.scenario import Scenario
+from sim.simulation import Simulation
 
 # objects the world loads from pybullet_data keep their own colours; "sphere" is a red ball
 URDF_LOOKS = {"duck": ("duck", "yellow"), "teddy": ("teddy", "brown"), "tray": ("tray", "grey"),

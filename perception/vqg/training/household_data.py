@@ -22,13 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
-from app.sim.scenario import load_scenario
-from app.sim.simulation import Simulation
-from app.sim.world import World
 from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import SPLITS, HouseholdConfig, VqgDataConfig
 from perception.vqg.training.frames_io import frame_done, questions_for, write_frame
 from perception.vqg.training.household import household_scene
+from sim.scenario import load_scenario
+from sim.simulation import Simulation
+from sim.world import World
 
 Frame = tuple[np.ndarray, SceneGraph]
 

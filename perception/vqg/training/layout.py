@@ -16,8 +16,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.sim.people import Appearance
-from app.sim.world_types import Light
 from perception.detector.training.data import FURNITURE_SIZES, SKINS, SceneSpec
 from perception.vqg.scene import (
     ACTIVITY_MIX,
@@ -33,6 +31,8 @@ from perception.vqg.scene import (
     SceneGraph,
 )
 from perception.vqg.training.data_config import SceneConfig
+from sim.lighting import Light
+from sim.people import Appearance
 
 FIXED_COLOUR = {"duck": "yellow", "cake": "white", "plate": "white", "tray": "grey"}
 OBJECT_SCALE = {"ball": 0.6, "block": 1.0, "duck": 1.0, "teddy": 1.0}  # on a surface

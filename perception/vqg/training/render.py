@@ -2,8 +2,8 @@
 and keep in the scene graph only what the frame shows.
 
 The room, light and furniture come from :mod:`perception.detector.training.data` and
-:func:`app.sim.furnishings.furniture_parts`; mugs, plates, books, balls and the cake with its
-candles from :mod:`app.sim.furnishings`'s primitive objects; the duck, teddy and tray from
+:func:`sim.furnishings.furniture_parts`; mugs, plates, books, balls and the cake with its
+candles from :mod:`sim.furnishings`'s primitive objects; the duck, teddy and tray from
 ``pybullet_data``.
 
 Visibility rule: a node is kept when at least ``min_pixels[category]`` pixels of the
@@ -21,22 +21,22 @@ import numpy as np
 import pybullet as p
 import pybullet_data
 
-from app.sim.furnishings import URDF_OBJECTS, furniture_parts, object_xml
-from app.sim.layout import SceneObject
-from app.sim.people import Part, Person, build_body, load_urdf_text
 from perception.detector.config import ImageConfig, load_detector_config
 from perception.detector.training.data import DetectorScene, room_parts
 from perception.vqg.scene import PALETTE, Node, SceneGraph
 from perception.vqg.training.data_config import VisibilityConfig
 from perception.vqg.training.layout import Plan
+from sim.furnishings import URDF_OBJECTS, furniture_parts, object_xml
+from sim.layout import SceneObject
+from sim.people import Part, Person, build_body, load_urdf_text
 
-CANDLE_COLOURS = ("blue", "yellow")  # app.sim.world paints candles blue and yellow in turn
+CANDLE_COLOURS = ("blue", "yellow")  # sim.world paints candles blue and yellow in turn
 PRIMITIVES = ("mug", "plate", "book", "ball", "cake")
 TEXTURED = ("duck", "tray")  # keep their pybullet_data textures (yellow, grey)
 
 
 def _extra_parts(node: Node) -> list[Part]:
-    """Parts of the objects app.sim.world does not build: balloon, present, block."""
+    """Parts of the objects sim.world does not build: balloon, present, block."""
     c, k = PALETTE[node.colour], node.size[0] if node.size else 1.0
     if node.kind == "balloon":
         return [Part("sphere", (0.13,), c), Part("cylinder", (0.004, 0.9), (0.9, 0.9, 0.9),

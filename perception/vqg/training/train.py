@@ -27,8 +27,8 @@ from pathlib import Path
 import torch
 import torch.nn.functional as F  # noqa: N812
 
-from app.core.checkpoint import atomic_torch_save, read_weights
-from app.core.interrupts import stop_requests, stops_first
+from core.checkpoint import atomic_torch_save, read_weights
+from core.interrupts import stop_requests, stops_first
 from perception.vqg.config import VqgConfig
 from perception.vqg.generator import VqgModelError
 from perception.vqg.model import (

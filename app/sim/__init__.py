@@ -1,1 +1,0 @@
-"""The simulated household: the robot, the world, its people, scenarios and navigation."""
