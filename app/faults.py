@@ -20,7 +20,7 @@ from pydantic import Field, model_validator
 
 from core.config_files import StrictModel, read_yaml, validate
 from core.events import EventLog
-from sim.robot import JOINT_NAMES
+from robot.joints import JOINT_NAMES
 from sim.simulation import Simulation
 
 Kind = Literal["camera_black", "camera_frozen", "detector_error", "detector_timeout",
@@ -122,7 +122,7 @@ class FaultInjector:
         only while the robot is off it). A lasting fault lasts ``for_s`` from its start."""
         for i, f in enumerate(self.spec.faults):
             if i not in self._started and t >= f.at:
-                if f.kind == "dock_blocked" and self.sim.robot.charging:
+                if f.kind == "dock_blocked" and self.sim.robot.battery.charging:
                     continue   # a box can't land on the docked robot: wait until it leaves
                 self._started[i] = t
                 if f.kind == "person_vanishes":
@@ -139,22 +139,22 @@ class FaultInjector:
     def _start(self, f: Fault) -> None:
         robot, world = self.sim.robot, self.sim.world
         if f.kind in ("camera_black", "camera_frozen"):
-            robot.set_camera_fault(f.kind.removeprefix("camera_"))
+            robot.camera.set_fault(f.kind.removeprefix("camera_"))
         elif f.kind == "joint_failure":
-            robot.fail_joint(f.joint)  # type: ignore[arg-type]
+            robot.joints.fail(f.joint)  # type: ignore[arg-type]
         elif f.kind == "battery_drop":
-            robot.set_battery(min(robot.battery, f.level))
+            robot.battery.set_level(min(robot.battery.level, f.level))
         elif f.kind == "dock_blocked":
-            dock = world.dock_pose()
+            dock = world.house.dock_pose()
             world.drop_box("fault_box", dock.x, dock.y)
         self.events.emit("fault_injected", fault=f.kind, **_details(f))
 
     def _end(self, f: Fault) -> None:
         robot, world = self.sim.robot, self.sim.world
         if f.kind in ("camera_black", "camera_frozen"):
-            robot.set_camera_fault(None)
+            robot.camera.set_fault(None)
         elif f.kind == "joint_failure":
-            robot.fail_joint(f.joint, failed=False)  # type: ignore[arg-type]
+            robot.joints.fail(f.joint, failed=False)  # type: ignore[arg-type]
         elif f.kind == "dock_blocked":
             world.take_away("fault_box")
         self.events.emit("fault_cleared", fault=f.kind)
@@ -164,7 +164,7 @@ class FaultInjector:
         people = self.sim.world.people_positions()
         if not people:
             return
-        x, y, _ = self.sim.robot.pose()
+        x, y, _ = self.sim.robot.base.pose()
         name = min(people, key=lambda n: np.hypot(people[n].x - x, people[n].y - y))
         self.sim.world.take_away(name)
         self.events.emit("fault_injected", fault=f.kind, person=name)

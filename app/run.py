@@ -28,8 +28,9 @@ from tqdm import tqdm
 from app.faults import FaultInjector, FaultSpec, FaultyDetector, fault_report
 from app.report import TimelineWriter, compute_metrics, plot_run, write_metrics
 from app.tablet.record import ViewFrames
+from app.wiring import make_context
 from behaviours.config import load_behaviour_config
-from behaviours.context import Context, make_context
+from behaviours.context import Context
 from behaviours.ticking import SimulationTree
 from behaviours.tree import build_tree, render
 from core.checkpoint import atomic_write_bytes
@@ -162,7 +163,7 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:
-        name = saver("photo", sim.robot.camera_frame())
+        name = saver("photo", sim.robot.camera.frame())
         if name is None:
             raise RuntimeError(f"no photo saved (camera frame missing, or "
                                f"{saver.left['photo']} photos left)")

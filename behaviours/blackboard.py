@@ -4,7 +4,7 @@ All keys live at the root namespace, so that ``py_trees.display`` can show them 
 behaviour declares what it reads and writes (:class:`behaviours.skill.ContextBehaviour`).
 Behaviours do not seed keys: :func:`seed` writes the initial value of every key, and the
 tree builders call it (:func:`behaviours.tree.build_tree` for the run,
-:func:`behaviours.harness.skill_tree` for one skill on its own).
+:func:`app.harness.skill_tree` for one skill on its own).
 """
 
 from __future__ import annotations

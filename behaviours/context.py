@@ -1,7 +1,9 @@
 """What the behaviours of a tree share: their :class:`Context`.
 
-The context holds the simulated robot and world, the services the skills call (speech,
-detector, dialogue, question generator) and the run's clock and event log. The tree's
+The context holds the robot's body as named parts (``robot.body.Body``) and its map of the
+household (``robot.navigation.FloorPlan``), the services the skills call (speech, detector,
+dialogue, question generator) and the run's clock and event log; ``app/wiring.py`` makes
+one around a simulation. The tree's
 state lives on the py_trees blackboard instead (``behaviours/blackboard.py``).
 """
 
@@ -10,24 +12,27 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-import py_trees
 
-from behaviours.config import BehaviourConfig, load_behaviour_config
+from behaviours.config import BehaviourConfig
 from behaviours.step_record import StepRecord
 from core.events import EventLog
 from mind.homeostasis import Homeostasis
-from mind.personality import load_personality
 from mind.preferences.config import AdaptationConfig, load_feedback_config
 from mind.preferences.memory import Memory
 from perception.detector.yolo import Detector
 from perception.facing.model import FacingEstimator
+
+if TYPE_CHECKING:
+    from dialogue.manager import DialogueManager
+    from dialogue.speech.recognizer import SpeechRecognizer
+from robot.body import Body
+from robot.navigation import FloorPlan
 from robot.path_follower import PathFollower
+from robot.percepts import SocialEvent, Sound
 from robot.speaker import Speaker
-from sim.robot import Robot
-from sim.world import World
 
 
 class QuestionGenerator(Protocol):
@@ -51,29 +56,29 @@ class SimClock:
 
 @dataclass
 class Context:
-    """What every behaviour of a tree sees: the simulated robot and world, the robot's
-    homeostasis and services, the behaviour parameters, the simulated clock and the event
-    log (one per run; :func:`make_context` makes it from a simulation)."""
+    """What every behaviour of a tree sees: the robot's body and its map, its homeostasis
+    and services, the behaviour parameters, the clock and the event log (one per run;
+    :func:`app.wiring.make_context` makes it from a simulation)."""
 
-    robot: Robot
-    world: World
+    robot: Body
+    floor_plan: FloorPlan
     homeostasis: Homeostasis
     config: BehaviourConfig
     clock: SimClock
     events: EventLog
     speaker: Speaker
     detector: Detector | None = None
-    dialogue: Any = None                     # dialogue.manager.DialogueManager
+    dialogue: DialogueManager | None = None
     questions: QuestionGenerator | None = None
     facing: FacingEstimator | None = None    # which way a person in a box looks
-    recognizer: Any = None                   # dialogue.speech.SpeechRecognizer: sounds -> words
+    recognizer: SpeechRecognizer | None = None   # sounds -> words
     ask_again: Callable[[int, bool], None] = lambda line, closer: None  # "say that again"
                                              # (and "come closer") reaches people
     ask_way: Callable[[], None] = lambda: None   # "could someone clear the way" reaches them
     camera_rate: float = 2.0                 # frames per second while no one is tracked
-    inbox: list[Any] = field(default_factory=list)    # social events not yet sensed
+    inbox: list[SocialEvent | Sound] = field(default_factory=list)   # not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far
-    snapshot: Any = None                     # callable(tag, frame) -> saved path, or None
+    snapshot: Callable[[str, np.ndarray], str | None] | None = None  # (tag, frame) -> saved
     steps: StepRecord = field(default_factory=StepRecord)  # the homeostasis steps so far
     contain_faults: bool = False   # an exception in a behaviour fails it (household runs)
     household: tuple[str, ...] = ()   # the names of the people it lives with (its set-up)
@@ -90,30 +95,6 @@ class Context:
     def path_follower(self) -> PathFollower:
         """A path follower with the ``pid`` gains, the robot's speed limits, the charge
         skill's waypoint tolerance and the simulated clock (docking and detours use it)."""
-        base = self.robot.cfg.base
+        base = self.robot.base.cfg
         return PathFollower(self.config.pid, base.max_linear_speed, base.max_angular_speed,
                             self.config.charge.waypoint_tolerance, self.clock)
-
-
-def make_context(sim: Any, config: BehaviourConfig | None = None,
-                 detector: Detector | None = None, events_path: Any = None,
-                 audio_dir: Any = None, **services: Any) -> Context:
-    """A :class:`Context` around an :class:`sim.simulation.Simulation`: the scenario's
-    personality, a clock that follows the simulation, an event log (in memory unless
-    ``events_path``) and a speaker (WAVs into ``audio_dir`` when given). ``services``
-    fills ``dialogue`` / ``questions``. Only cheap objects are made here: the models are
-    the caller's (``detector``, ``services``). The py_trees blackboard is cleared: make the
-    context before the tree."""
-
-
-    py_trees.blackboard.Blackboard.clear()
-    scenario = sim.scenario
-    clock = SimClock(sim.dt, sim.t)
-    events = EventLog(events_path, clock)
-    return Context(robot=sim.robot, world=sim.world,
-                   homeostasis=Homeostasis(load_personality(scenario.personality)),
-                   config=config or load_behaviour_config(), clock=clock, events=events,
-                   speaker=Speaker(events, audio_dir, sim.robot.cfg.voice), detector=detector,
-                   camera_rate=scenario.camera_rate, ask_again=sim.ask_again,
-                   ask_way=sim.ask_way,
-                   household=tuple(p.name for p in scenario.people), **services)

@@ -33,7 +33,7 @@ class HomeostasisTick(ContextBehaviour):
         self._battery()
 
     def _battery(self) -> None:
-        self.ctx.robot.set_battery(float(1.0 - self.bb.drives[DRIVES.index("energy")]))
+        self.ctx.robot.battery.set_level(float(1.0 - self.bb.drives[DRIVES.index("energy")]))
 
     def _publish(self) -> None:
         bb = self.bb
@@ -51,7 +51,7 @@ class HomeostasisTick(ContextBehaviour):
     def _read_battery(self) -> None:
         """The energy drive follows a battery that lost charge on its own (a failing cell):
         charging then pre-empts as for any low battery (a ``fault`` event says so)."""
-        i, battery = DRIVES.index("energy"), self.ctx.robot.battery
+        i, battery = DRIVES.index("energy"), self.ctx.robot.battery.level
         if battery < 1.0 - self.bb.drives[i] - BATTERY_TOLERANCE:
             self.emit("fault", fault="battery_drop", battery=round(battery, 3),
                       expected=round(1.0 - float(self.bb.drives[i]), 3),

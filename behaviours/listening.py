@@ -35,7 +35,7 @@ def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardL
 def head_error(ctx: Context, bearing: float) -> float:
     """How far (rad) the head points from ``bearing`` (world frame), given the base's yaw
     and the HeadYaw joint."""
-    yaw = ctx.robot.pose()[2] + ctx.robot.joint_positions()["HeadYaw"]
+    yaw = ctx.robot.base.pose()[2] + ctx.robot.joints.positions()["HeadYaw"]
     return wrap_angle(bearing - yaw)
 
 
@@ -108,16 +108,16 @@ class FaceSpeaker(ContextBehaviour):
         robot, cfg = self.ctx.robot, self.ctx.config.listening
         bearing = self.bb.listening_to
         if bearing is None:
-            robot.set_base_velocity(0.0, 0.0, 0.0)
+            robot.base.set_velocity(0.0, 0.0, 0.0)
             return Status.RUNNING
-        off_base = wrap_angle(bearing - robot.pose()[2])
-        lo, hi = robot.joint_limits()["HeadYaw"]
-        robot.move_joints({"HeadYaw": min(max(off_base, lo), hi)}, cfg.head_speed)
+        off_base = wrap_angle(bearing - robot.base.pose()[2])
+        lo, hi = robot.joints.limits()["HeadYaw"]
+        robot.joints.move({"HeadYaw": min(max(off_base, lo), hi)}, cfg.head_speed)
         facing = abs(off_base) <= math.radians(cfg.facing_tolerance_deg)
         turn = 0.0 if facing else math.copysign(min(cfg.turn_speed, cfg.turn_gain
                                                     * abs(off_base)), off_base)
-        robot.set_base_velocity(0.0, 0.0, turn)
+        robot.base.set_velocity(0.0, 0.0, turn)
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
-        self.ctx.robot.set_base_velocity(0.0, 0.0, 0.0)
+        self.ctx.robot.base.set_velocity(0.0, 0.0, 0.0)

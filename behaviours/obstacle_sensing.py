@@ -28,7 +28,7 @@ class ObstacleSensing:
     def for_charge(cls, ctx: Context) -> ObstacleSensing:
         """Sensing for a planner on the floor map with the charge skill's settings."""
         cfg = ctx.config.charge
-        return cls(ctx, Navigator(ctx.world, cfg.grid_resolution, cfg.robot_radius,
+        return cls(ctx, Navigator(ctx.floor_plan, cfg.grid_resolution, cfg.robot_radius,
                                   cfg.obstacle_memory_s, cfg.static_margin_m,
                                   cfg.sensed_clearance_m, cfg.body_radius, cfg.tracks))
 
@@ -45,7 +45,7 @@ class ObstacleSensing:
         if (vx, vy) == (0.0, 0.0):
             return command, False
         cfg, memory = self.ctx.config.charge, self.navigator.memory
-        near = self.ctx.robot.cfg.lasers.mount_radius_m + cfg.security_distance_m
+        near = self.ctx.robot.lasers.cfg.mount_radius_m + cfg.security_distance_m
         heading = pose[2] + math.atan2(vy, vx)
         if memory.ahead(pose[:2], heading, near + math.hypot(vx, vy) * cfg.security_time_s,
                         cfg.robot_radius, near):
@@ -72,9 +72,9 @@ class ObstacleSensing:
         z = depth[np.ix_(rows, cols)]
         pos, rays = self.range.rays(depth.shape, cols[None, :] + 0.5, rows[:, None] + 0.5)
         points = pos + z[..., None] * rays
-        x, y, _ = robot.pose()
+        x, y, _ = robot.base.pose()
         reach = np.hypot(points[..., 0] - x, points[..., 1] - y)
-        keep = ((z < robot.cfg.camera.far * 0.99) & (points[..., 2] >= cfg.min_height_m)
+        keep = ((z < robot.camera.cfg.far * 0.99) & (points[..., 2] >= cfg.min_height_m)
                 & (points[..., 2] <= cfg.max_height_m) & (reach <= cfg.max_range_m)
-                & (reach >= robot.cfg.lasers.mount_radius_m))
+                & (reach >= robot.lasers.cfg.mount_radius_m))
         return points[keep][:, :2]

@@ -10,15 +10,15 @@ import numpy as np
 
 from behaviours.config import PerceptionConfig
 from perception.detector.yolo import Detection
-from sim.robot import Robot
+from robot.body import Body
 
 
 class PersonRange:
     """Distance and plausibility of person boxes in depth frames of ``robot``'s camera."""
 
-    def __init__(self, robot: Robot, cfg: PerceptionConfig) -> None:
+    def __init__(self, robot: Body, cfg: PerceptionConfig) -> None:
         self.robot, self.cfg = robot, cfg
-        self.tan_half_vfov = math.tan(math.radians(robot.cfg.camera.fov_deg) / 2)
+        self.tan_half_vfov = math.tan(math.radians(robot.camera.cfg.fov_deg) / 2)
 
     def distance(self, depth: np.ndarray, box: Detection) -> float | None:
         """Floor distance (m) from the base to the nearest surface of the person in ``box``:
@@ -33,13 +33,13 @@ class PersonRange:
         c0, c1 = int(max(0, box.centre[0] - half)), int(min(cols, box.centre[0] + half + 1))
         r0, r1 = int(max(0, y0 + top * (y1 - y0))), int(min(rows, y0 + bottom * (y1 - y0) + 1))
         z = depth[r0:r1, c0:c1]
-        valid = z < self.robot.cfg.camera.far * 0.99
+        valid = z < self.robot.camera.cfg.far * 0.99
         if not valid.any():
             return None
         pos, rays = self.rays(depth.shape, np.arange(c0, c1)[None, :] + 0.5,
                               np.arange(r0, r1)[:, None] + 0.5)
         points = pos[:2] + z[..., None] * rays[..., :2]
-        base = np.asarray(self.robot.pose()[:2])
+        base = np.asarray(self.robot.base.pose()[:2])
         return float(np.percentile(np.linalg.norm(points - base, axis=-1)[valid],
                                    self.cfg.depth_percentile))
 
@@ -59,7 +59,7 @@ class PersonRange:
         """The camera position and the viewing rays (last axis x, y, z in the world; unit
         length along the optical axis) through image points (``col``, ``row`` in pixels,
         broadcast together) of a frame of ``shape``."""
-        pos, axis, up = self.robot.camera_pose()
+        pos, axis, up = self.robot.camera.pose()
         rows, cols = shape[:2]
         focal = rows / 2 / self.tan_half_vfov
         u, v = (col - cols / 2) / focal, (rows / 2 - row) / focal

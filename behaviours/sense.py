@@ -13,7 +13,7 @@
   and praise is also encouragement: it switches the encouragement stimulus on for
   ``encouragement_s``; whoever spoke or gave feedback last is ``person``;
 - an emotion counts only on a face the detector found in the current frame (what the face
-  at the box's centre shows, :meth:`sim.world.World.expression_of`); it colours the
+  at the box's centre shows, :meth:`robot.body.Camera.expression_at`); it colours the
   mood for ``emotion_hold_s`` after it was last seen;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
@@ -143,11 +143,12 @@ class Sense(ContextBehaviour):
         ctx, cfg = self.ctx, self.ctx.config.perception
         if self.now - self.bb.frame_t < 1.0 / self._rate() - 1e-6:
             return
-        frame, depth = ctx.robot.camera_frame_with_depth()
+        frame, depth = ctx.robot.camera.frame_with_depth()
         ctx.frames_taken += 1
         detections = (self.health.detect(ctx.detector, frame, self.now)
                       if ctx.detector is not None
-                      and self.health.frame_usable(frame, ctx.robot.frame_seq, self.now) else [])
+                      and self.health.frame_usable(frame, ctx.robot.camera.frame_seq, self.now)
+                      else [])
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
         people = people_in_view(ctx, detections)
@@ -163,8 +164,7 @@ class Sense(ContextBehaviour):
         for face in detections:
             if face.cls != "face" or face.conf < self.ctx.config.perception.min_conf:
                 continue
-            body = self.ctx.robot.body_at_pixel(*face.centre, width, height)
-            emotion = self.ctx.world.expression_of(body) if body is not None else None
+            emotion = self.ctx.robot.camera.expression_at(*face.centre, width, height)
             if emotion is None:
                 continue
             value = EMOTION_VALUE[emotion]
@@ -195,8 +195,8 @@ class Sense(ContextBehaviour):
     def update(self) -> Status:
         self._social()
         self._camera()
-        self.health.joints(self.ctx.robot.tracking_errors(), self.now)
-        self.bb.stimuli = np.array([float(self.ctx.robot.overheated),
+        self.health.joints(self.ctx.robot.joints.tracking_errors(), self.now)
+        self.bb.stimuli = np.array([float(self.ctx.robot.thermal.overheated),
                                     float(self.now <= self._present_until),
                                     float(self.now <= self._encouraged_until)])
         return Status.SUCCESS

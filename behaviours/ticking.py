@@ -9,20 +9,36 @@ clock moves to the simulation's time, then the tree ticks.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Protocol
 
 import py_trees
 
 from behaviours.context import Context
+from robot.percepts import SocialEvent, Sound
+
+
+class Household(Protocol):
+    """Where the robot lives, stepped once per tick: ``sim.simulation.Simulation``, or a
+    real household's sensors gathered over the same period."""
+
+    t: float
+
+    def show(self, action: str | None) -> None:
+        """What the robot is doing now, for the people around it to react to."""
+        ...
+
+    def step(self) -> list[SocialEvent | Sound]:
+        """Advance by one step; the social events and recordings that came in."""
+        ...
 
 
 class SimulationTree(py_trees.trees.BehaviourTree):
-    """``root`` ticked on ``sim`` (an :class:`sim.simulation.Simulation`): each
+    """``root`` ticked on ``sim`` (a :class:`Household`): each
     :meth:`tick` first steps the simulation by one scenario step (the pre-tick handler
     :meth:`advance`). :meth:`setup` sets up every behaviour once (the heavy one-time work:
     planners, grids, routines); call it before the first tick."""
 
-    def __init__(self, root: py_trees.behaviour.Behaviour, sim: Any, ctx: Context) -> None:
+    def __init__(self, root: py_trees.behaviour.Behaviour, sim: Household, ctx: Context) -> None:
         super().__init__(root)
         self.sim, self.ctx = sim, ctx
         self.add_pre_tick_handler(self.advance)

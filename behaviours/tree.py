@@ -55,7 +55,7 @@ def _guard(action: str, subtree: py_trees.behaviour.Behaviour) -> py_trees.behav
 def build_tree(ctx: Context, policy: Policy, initial_drives: dict[str, float],
                builders: dict[str, SkillBuilder] | None = None
                ) -> py_trees.composites.Sequence:
-    """The full tree for one run (call after :func:`behaviours.context.make_context`); the
+    """The full tree for one run (call after :func:`app.wiring.make_context`); the
     blackboard is seeded (:func:`behaviours.blackboard.seed`) with ``initial_drives``."""
     seed(ctx, initial_drives)
     builders = builders or skill_builders()

@@ -39,10 +39,10 @@ import numpy as np
 import pybullet as p
 from py_trees.common import Status
 
+from app.harness import skill_tree
+from app.wiring import make_context
 from behaviours.blackboard import seed
 from behaviours.config import BehaviourConfig, load_behaviour_config
-from behaviours.context import make_context
-from behaviours.harness import skill_tree
 from behaviours.skills.charge import approach, predock_pose
 from behaviours.ticking import SimulationTree
 from robot.geometry import wrap_angle
@@ -125,7 +125,7 @@ def closeness(sim: Simulation, before: tuple[float, float, float], limit: float,
     """Whether the robot is within ``limit`` of a person's body now (the simulator's truth),
     and whether its own move since ``before`` brought it there: from ``before`` it was more
     than ``DRIVEN_M`` farther from that person as they stand now."""
-    robot, now = sim.robot, sim.robot.pose()
+    robot, now = sim.robot, sim.robot.base.pose()
     near = [person.body_id for person in sim.world.people.values()
             if math.hypot(person.x - now[0], person.y - now[1]) < 1.5]
 
@@ -137,9 +137,9 @@ def closeness(sim: Simulation, before: tuple[float, float, float], limit: float,
     gap_now = gaps()
     if not any(g < limit for g in gap_now):
         return False, False
-    robot.set_pose(*before)
+    robot.base.set_pose(*before)
     gap_before = gaps()
-    robot.set_pose(*now)
+    robot.base.set_pose(*now)
     return True, any(g < limit and g < b - DRIVEN_M
                      for g, b in zip(gap_now, gap_before, strict=True))
 
@@ -153,9 +153,9 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
     client = p.connect(p.DIRECT)
     try:   # the floor map, and the way it alone gives to the pre-dock pose
         world = World(scenario, client)
-        navigator = Navigator(world, cfg.grid_resolution, cfg.robot_radius)
-        grid, dock = navigator.grid(), world.dock_pose()
-        walkable = OccupancyGrid.build(world.room_bounds().values(), world.obstacles(),
+        navigator = Navigator(world.house, cfg.grid_resolution, cfg.robot_radius)
+        grid, dock = navigator.grid(), world.house.dock_pose()
+        walkable = OccupancyGrid.build(world.house.room_bounds().values(), world.obstacles(),
                                        cfg.grid_resolution, PERSON_RADIUS_M)
         # the trial's set-up, not the robot's knowledge: no start inside a person
         people = [o for o in world.obstacles(include_people=True) if o.kind == "person"]
@@ -177,7 +177,7 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
     scenario = scenario.model_copy(update={"people": everyone})
     with Simulation(scenario) as sim:
         ctx = make_context(sim, config=config)
-        sim.robot.set_pose(*start)
+        sim.robot.base.set_pose(*start)
         if camera:
             tree = skill_tree(sim, ctx, approach(ctx), "charge")
             skill = tree.root.children[-1]
@@ -189,13 +189,13 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
         wall = time.perf_counter()
         contacts = touched = 0
         while skill.status in (Status.INVALID, Status.RUNNING):
-            before = sim.robot.pose()
+            before = sim.robot.base.pose()
             tree.tick()
             close, driven = closeness(sim, before, contact_m)
             touched += close
             contacts += driven
         wall = time.perf_counter() - wall
-        x, y, yaw = sim.robot.pose()
+        x, y, yaw = sim.robot.base.pose()
         docked = ctx.events.of_kind("docked")
         replans = ctx.events.of_kind("replan")
         return {"start": [round(v, 3) for v in start],

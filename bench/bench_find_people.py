@@ -41,9 +41,9 @@ import numpy as np
 import pybullet as p
 from py_trees.common import Status
 
+from app.harness import skill_tree
+from app.wiring import make_context
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
-from behaviours.harness import skill_tree
 from behaviours.skills import find_people
 from perception.detector.yolo import Detector, YoloDetector
 from perception.facing.config import DEFAULT_FACING_MODEL
@@ -155,7 +155,7 @@ def run_trial(scenario: Scenario, detector: Detector, facing: FacingEstimator | 
             if said:
                 greeted = said[0]["t"] + said[0]["duration"]
         found = ctx.events.of_kind("person_found")
-        rx, ry, ryaw = sim.robot.pose()
+        rx, ry, ryaw = sim.robot.base.pose()
         person = sim.world.people_positions()[PERSON]
         tree.stop()
     dist = math.hypot(person.x - rx, person.y - ry)

@@ -60,7 +60,7 @@ def poses(w: World, views: int) -> list[tuple[float, float, float]]:
 
 def render(client: int, w: World, robot: Robot, renderer: int) -> np.ndarray:
     """One 320x240 frame with depth from the robot's head camera; its colour image."""
-    view, proj = robot.camera_matrices(320, 240)
+    view, proj = robot.camera.matrices(320, 240)
     rgba = p.getCameraImage(320, 240, view, proj, flags=p.ER_NO_SEGMENTATION_MASK,
                             renderer=renderer, physicsClientId=client,
                             **w.light.camera_kwargs())[2]
@@ -73,7 +73,7 @@ def measure(world: str, egl: bool, views: int, repeat: int) -> tuple[float, list
     renderer = p.ER_BULLET_HARDWARE_OPENGL if egl else p.ER_TINY_RENDERER
     times, frames = [], []
     for x, y, yaw in poses(w, views):
-        robot.set_pose(x, y, yaw)
+        robot.base.set_pose(x, y, yaw)
         frames.append(render(client, w, robot, renderer))   # the first one warms up
         t0 = time.perf_counter()
         for _ in range(repeat):

@@ -80,7 +80,7 @@ class DanceBook(StrictModel):
 
 def load_dances(path: str | Path, limits: Mapping[str, tuple[float, float]]) -> DanceBook:
     """Load and validate the routines file at ``path``; every keyframe target must lie within
-    ``limits`` (joint name -> (lower, upper) rad, e.g. ``Robot.joint_limits()``). Problems
+    ``limits`` (joint name -> (lower, upper) rad, e.g. ``Robot.joints.limits()``). Problems
     raise :class:`ConfigError` naming the offending key."""
     book = validate(DanceBook, read_yaml(path), str(path))
     problems = [

@@ -24,7 +24,7 @@ import numpy as np
 from scipy import ndimage, sparse
 from scipy.sparse import csgraph
 
-from robot.geometry import Footprint
+from robot.geometry import Footprint, Pose2D
 from robot.lasers import Scan
 from robot.obstacle_tracks import TracksConfig
 from robot.sensed_obstacles import ObstacleMemory
@@ -35,8 +35,8 @@ Bounds = tuple[float, float, float, float]        # x_min, y_min, x_max, y_max
 
 
 class FloorPlan(Protocol):
-    """The robot's map of its household: the rooms' bounds and the footprints of what does
-    not move (walls, furniture, floor objects, the dock plate)."""
+    """The robot's map of its household: the rooms' bounds, the footprints and heights of
+    what does not move (walls, furniture, floor objects, the dock plate) and the dock."""
 
     def room_bounds(self) -> dict[str, Bounds]:
         """``(x_min, y_min, x_max, y_max)`` of each room, by name."""
@@ -44,6 +44,14 @@ class FloorPlan(Protocol):
 
     def obstacles(self) -> list[Footprint]:
         """The floor footprints of the household's fixed obstacles."""
+        ...
+
+    def furniture_top(self, name: str) -> float:
+        """How high the furniture ``name`` reaches (m): what a camera can see over."""
+        ...
+
+    def dock_pose(self) -> Pose2D:
+        """Where the robot stands when docked, facing the dock's marker plate."""
         ...
 NEIGHBOURS = ((1, 0), (0, 1), (1, 1), (1, -1))    # each undirected 8-neighbour edge once
 

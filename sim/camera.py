@@ -36,7 +36,7 @@ class ScenarioCamera:
         """Render the head camera and save the frame; returns the PNG's path."""
         if self._robot is None:
             self._build()
-        frame = self._robot.camera_frame()
+        frame = self._robot.camera.frame()
         self.out_dir.mkdir(parents=True, exist_ok=True)
         path = self.out_dir / f"photo-{next(self._count):03d}.png"
         cv2.imwrite(str(path), cv2.cvtColor(frame, cv2.COLOR_RGB2BGR))

@@ -74,7 +74,7 @@ class HouseholdSound:
         self._lines[line] = (event, kind)
         while len(self._lines) > KEPT_LINES:
             self._lines.popitem(last=False)
-        x, y, _ = self.robot.pose()
+        x, y, _ = self.robot.base.pose()
         here = (x, y)
         speaker = self.world.people_positions().get(event.person)
         at = (speaker.x, speaker.y) if speaker else here
@@ -88,7 +88,7 @@ class HouseholdSound:
         if not audible or (voice := self._voice(event.text, event.person)) is None:
             return None
         loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
-        heading, array = self.robot.head_yaw(), self.microphones.cfg.array
+        heading, array = self.robot.camera.heading(), self.microphones.cfg.array
         if array:
             audio = self.acoustics.at_array(*voice, at, here, heading, loops, rng)
         else:
@@ -109,7 +109,7 @@ class HouseholdSound:
         person = next((p for p in self.scenario.people if p.name == event.person), None)
         if person is None or not person.repeat_if_asked:
             return None
-        x, y, _ = self.robot.pose()
+        x, y, _ = self.robot.base.pose()
         walk_s = self.world.approach(event.person, t, (x, y), CLOSER_M) if closer else 0.0
         return SayEvent(t + walk_s + REPEAT_AFTER_S, event.person, event.text, event.to)
 

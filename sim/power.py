@@ -9,11 +9,26 @@ from sim.robot_config import BatteryConfig, ThermalConfig
 
 
 class Battery:
-    """State of charge in [0, 1]: idle drain, extra drain with motion, charging."""
+    """State of charge in [0, 1]: idle drain, extra drain with motion, charging
+    (:class:`robot.body.Battery`)."""
 
     def __init__(self, cfg: BatteryConfig) -> None:
         self.cfg = cfg
         self.level = cfg.initial
+        self.charging = False
+
+    def set_level(self, level: float) -> None:
+        """Set the state of charge (a household run keeps it equal to 1 - energy drive)."""
+        if not 0.0 <= level <= 1.0:
+            raise ValueError(f"battery level must lie in [0, 1], got {level}")
+        self.level = float(level)
+
+    def start_charging(self) -> None:
+        """Plug the charger in (the world decides when the robot is docked)."""
+        self.charging = True
+
+    def stop_charging(self) -> None:
+        """Unplug the charger."""
         self.charging = False
 
     def power_w(self, base_speed: float, turn_speed: float, joint_speed: float) -> float:
@@ -30,7 +45,8 @@ class Battery:
 
 
 class MotorHeat:
-    """One lumped motor temperature with a hysteretic overheat flag."""
+    """One lumped motor temperature with a hysteretic overheat flag
+    (:class:`robot.body.Thermal`)."""
 
     def __init__(self, cfg: ThermalConfig) -> None:
         self.cfg = cfg

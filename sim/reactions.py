@@ -55,7 +55,7 @@ class Reactions:
                 continue
             pose = where[name]
             near = math.hypot(pose.x - robot_xy[0], pose.y - robot_xy[1]) <= tastes.distance_m
-            if not near or world.room_at(pose.x, pose.y) != world.room_at(*robot_xy):
+            if not near or world.house.room_at(pose.x, pose.y) != world.house.room_at(*robot_xy):
                 continue   # not seen yet: they may come and see it later in this run
             self.done.add(name)
             if self.rng.random() < tastes.chance:

@@ -10,21 +10,12 @@ from typing import Self
 from pydantic import Field, NonNegativeFloat, PositiveFloat, model_validator
 
 from core.config_files import StrictModel, load_model
+from robot.body import BaseConfig, CameraConfig
 from robot.joints import JOINT_NAMES
 from robot.lasers import LasersConfig
 from robot.voices import Voice
 from sim.acoustics import AcousticsConfig
 from sim.hearing import MicrophonesConfig
-
-
-class BaseConfig(StrictModel):
-    """Base speed limits and the collision check."""
-
-    max_linear_speed: PositiveFloat
-    max_angular_speed: PositiveFloat
-    collision_margin: NonNegativeFloat
-    collision_step: PositiveFloat
-    collision_turn_step: PositiveFloat
 
 
 class JointsConfig(StrictModel):
@@ -66,16 +57,6 @@ class ThermalConfig(StrictModel):
         if not self.ambient_c <= self.overheat_clear_c < self.overheat_c:
             raise ValueError("need ambient_c <= overheat_clear_c < overheat_c")
         return self
-
-
-class CameraConfig(StrictModel):
-    """Head camera intrinsics (vertical field of view, clip planes), and the share of each
-    frame's rows a helper process renders when there is one (sim/split_render.py)."""
-
-    fov_deg: float = Field(gt=0.0, lt=180.0)
-    near: PositiveFloat
-    far: PositiveFloat
-    helper_share: float = Field(gt=0.0, lt=1.0)
 
 
 class RobotConfig(StrictModel):

@@ -20,6 +20,7 @@ from core.config_files import ConfigError, StrictModel, read_yaml, validate
 from core.limits import MAX_DURATION_S, SEED_MAX
 from mind.personality import DRIVES, Action, load_personality
 from mind.preferences.config import TasteLists
+from robot.forecast import Weather
 from robot.percepts import AUDIENCES
 from robot.voices import PEOPLE_VOICES, Voice, VoiceError, check_voice
 from sim.layout import (
@@ -187,26 +188,6 @@ class Lighting(StrictModel):
     diffuse: Unit = 0.35
     specular: Unit = 0.05
     shadows: bool = False
-
-
-class WeatherDay(StrictModel):
-    """One day's weather in one city (answers the dialogue's weather questions)."""
-
-    condition: str = Field(min_length=1)
-    temp_c: float
-    low_c: float | None = None
-    high_c: float | None = None
-    rain_chance: float | None = Field(default=None, ge=0, le=100)
-    wind_kmh: float | None = Field(default=None, ge=0)
-    humidity: float | None = Field(default=None, ge=0, le=100)
-
-
-class Weather(StrictModel):
-    """A scenario's weather block: days by city (see dialogue/qa/weather.py)."""
-
-    home: str | None = None
-    source: str | None = None
-    cities: dict[str, dict[str, WeatherDay]] = Field(min_length=1)
 
 
 class Scenario(StrictModel):

@@ -53,19 +53,19 @@ class Simulation:
         self.world = World(scenario, self.client)
         start = self.world.robot_start()
         self.robot = Robot(self.client, (start.x, start.y, start.yaw),
-                           load_robot_config(robot_config))
+                           load_robot_config(robot_config), faces=self.world.expression_of)
         self.world.pass_through(self.robot.body_id)
-        self.robot.set_lighting(self.world.light.camera_kwargs())
-        self.robot.set_battery(scenario.robot.battery)
+        self.robot.camera.set_lighting(self.world.light.camera_kwargs())
+        self.robot.battery.set_level(scenario.robot.battery)
         self.reactions = Reactions(scenario)
         if voices_dir is not None:
             voices_dir.mkdir(parents=True, exist_ok=True)
         self.sound = HouseholdSound(scenario, self.world, self.robot, voices_dir)
         if camera_helper:
             try:
-                self.robot.renderer = SplitRenderer(self.client, self.world, scenario,
+                self.robot.camera.renderer = SplitRenderer(self.client, self.world, scenario,
                                                     self.robot.cfg,
-                                                    self.robot.cfg.camera.helper_share)
+                                                    self.robot.camera.cfg.helper_share)
             except OSError as exc:   # no processes to spare: the frames are drawn here
                 log.warning("no camera helper (%s); frames are drawn in one process", exc)
         self._speaking: list[tuple[float, SayEvent, str]] = []   # (when it ends, line, kind)
@@ -81,7 +81,7 @@ class Simulation:
         said as recorded)."""
         t_next = (self.steps + 1) * self.dt
         events: list[SocialEvent | Sound] = []
-        x, y, _ = self.robot.pose()
+        x, y, _ = self.robot.base.pose()
         said = (self.world.advance(self.t, t_next, (x, y))
                 + self.reactions.react(t_next, self.world, (x, y)))
         for e in said:
@@ -111,7 +111,7 @@ class Simulation:
     def _speak(self, event: SayEvent, kind: str) -> None:
         end = event.t + speech_seconds(event.text)
         self._speaking.append((end, event, kind))
-        x, y, _ = self.robot.pose()
+        x, y, _ = self.robot.base.pose()
         self.gaze.turn(event, end, (x, y))
 
     def ask_again(self, line: int, closer: bool = False) -> None:
@@ -128,13 +128,13 @@ class Simulation:
     def ask_way(self) -> None:
         """The robot asked for its way to be cleared: the people near it step away
         (:meth:`World.make_way`)."""
-        x, y, _ = self.robot.pose()
+        x, y, _ = self.robot.base.pose()
         self.world.make_way(self.t, (x, y))
 
     def stop_helper(self) -> None:
         """Stop the camera's helper process, if any (later frames are drawn in this one)."""
-        if isinstance(self.robot.renderer, SplitRenderer):
-            self.robot.renderer.close()
+        if isinstance(self.robot.camera.renderer, SplitRenderer):
+            self.robot.camera.renderer.close()
 
     def close(self) -> None:
         """Stop the camera's helper, if any, and disconnect the PyBullet client."""

@@ -40,9 +40,9 @@ def run(scenario, out: Path) -> tuple[list[dict], list[tuple[float, float]]]:
     with household.sim as sim:
         for _ in range(round(scenario.duration / scenario.step)):
             household.tree.tick()
-            x, y, yaw = sim.robot.pose()
+            x, y, yaw = sim.robot.base.pose()
             tom = sim.world.people_positions()["Tom"]
-            head = yaw + sim.robot.joint_positions()["HeadYaw"]
+            head = yaw + sim.robot.joints.positions()["HeadYaw"]
             facing.append((sim.t, wrap_angle(math.atan2(tom.y - y, tom.x - x) - head)))
         said = [{"kind": "line_said", **line} for line in sim.sound.said]  # as a run logs
     return household.ctx.events.events + said, facing

@@ -37,7 +37,7 @@ def ask(questions: list[str], detections: list[Detection]) -> tuple[Status, list
     py_trees.blackboard.Blackboard.clear()
     clock = SimClock(dt=0.1)
     events = EventLog(None, clock)
-    ctx = Context(robot=None, world=None, homeostasis=Homeostasis(load_personality()),
+    ctx = Context(robot=None, floor_plan=None, homeostasis=Homeostasis(load_personality()),
                   config=load_behaviour_config(), clock=clock, events=events,
                   speaker=Speaker(events), questions=Fixed(questions))
     seed(ctx, dict.fromkeys(DRIVES, 0.3), frame=FRAME, detections=detections)

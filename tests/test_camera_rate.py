@@ -9,9 +9,9 @@ from pathlib import Path
 import py_trees
 import yaml
 
+from app.wiring import make_context
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
 from behaviours.sense import Sense
 from behaviours.skill import people_in_view
 from behaviours.ticking import SimulationTree

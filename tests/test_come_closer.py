@@ -34,7 +34,7 @@ def ctx(tmp_path) -> Context:
     clock = SimClock(dt=0.1)
     cfg = load_behaviour_config()
     listening = cfg.listening.model_copy(update={"closer_below_snr_db": 15.0})
-    context = Context(robot=None, world=None, homeostasis=Homeostasis(load_personality()),
+    context = Context(robot=None, floor_plan=None, homeostasis=Homeostasis(load_personality()),
                       config=cfg.model_copy(update={"listening": listening}), clock=clock,
                       events=EventLog(None, clock), speaker=None)
     context.speaker = Speaker(context.events)

@@ -38,7 +38,7 @@ class Always:
 def setup():
     py_trees.blackboard.Blackboard.clear()
     clock = SimClock(dt=0.1)
-    ctx = Context(robot=None, world=None, homeostasis=Homeostasis(load_personality()),
+    ctx = Context(robot=None, floor_plan=None, homeostasis=Homeostasis(load_personality()),
                   config=load_behaviour_config(), clock=clock, events=EventLog(None, clock),
                   speaker=None)
     seed(ctx, dict.fromkeys(DRIVES, 0.5))

@@ -66,7 +66,7 @@ def scene():
 def test_a_person_looking_at_the_camera_has_angle_zero(scene):
     spec = scene.sample(np.random.SeedSequence([0, 0, 3]))
     person = spec.people[0]
-    eye = scene.robot.camera_pose()[0]
+    eye = scene.robot.camera.pose()[0]
     for turn, expected in ((0.0, 0.0), (math.pi / 2, math.pi / 2), (math.pi, math.pi)):
         facing = math.atan2(eye[1] - 0.0, eye[0] - 2.0) + turn
         one = SceneSpec(people=(type(person)(person.appearance, 2.0, 0.0, facing),),

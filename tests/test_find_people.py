@@ -8,10 +8,10 @@ import pytest
 from conftest import WEIGHTS
 from py_trees.common import Status
 
+from app.harness import run_skill
+from app.wiring import make_context
 from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
-from behaviours.harness import run_skill
 from behaviours.sense import Sense
 from behaviours.skill import people_in_view
 from behaviours.skills import find_people
@@ -45,8 +45,8 @@ def find(scenario, detector, config=None, max_seconds=45.0, facing=None):
         ctx = make_context(sim, config, detector, facing=facing)
         status, _ = run_skill(sim, ctx, find_people.build(ctx), "find_people", max_seconds)
         assert py_trees.blackboard.Blackboard.get("/tracking") == 0.0
-        assert ctx.robot.base_velocity == (0.0, 0.0, 0.0)
-        return status, ctx.events, sim.robot.pose(), ctx
+        assert ctx.robot.base.velocity == (0.0, 0.0, 0.0)
+        return status, ctx.events, sim.robot.base.pose(), ctx
 
 
 @pytest.mark.parametrize("robot_yaw", [180.0, 0.0], ids=["in_front", "behind"])
@@ -140,9 +140,9 @@ class FlickeringFalsePositive:
         self.in_view = 0
 
     def detect(self, frame):
-        x, y, yaw = self.robot.pose()
+        x, y, yaw = self.robot.base.pose()
         bearing = math.remainder(math.atan2(self.SPOT[1] - y, self.SPOT[0] - x) - yaw, math.tau)
-        tan_half_hfov = 4 / 3 * math.tan(math.radians(self.robot.cfg.camera.fov_deg) / 2)
+        tan_half_hfov = 4 / 3 * math.tan(math.radians(self.robot.camera.cfg.fov_deg) / 2)
         cx = 160.0 * (1.0 - math.tan(bearing) / tan_half_hfov) if abs(bearing) < 1.2 else -1.0
         if not 0.0 <= cx <= 320.0:
             return []

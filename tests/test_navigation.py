@@ -10,9 +10,9 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
+from app.harness import run_skill
+from app.wiring import make_context
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
-from behaviours.harness import run_skill
 from behaviours.skills.charge import approach, build, predock_pose
 from core.config_files import ConfigError
 from mind.personality import ACTIONS
@@ -56,7 +56,7 @@ def test_grid_inflates_a_box_by_the_radius_and_blocks_the_outside():
 
 
 def test_living_room_grid_blocks_furniture_walls_and_door_to_outside(client):
-    grid = Navigator(world("living_room", client), RES, RADIUS).grid()
+    grid = Navigator(world("living_room", client).house, RES, RADIUS).grid()
     for x, y in [(3.0, 4.45), (3.0, 3.3), (1.0, 3.0), (5.78, 2.5), (4.6, 1.6),  # sofa ... ball
                  (0.0, 2.5), (6.0, 1.0), (3.0, 5.0), (1.0, 0.1)]:           # walls, hall door
         assert not grid.is_free(x, y), (x, y)
@@ -66,7 +66,7 @@ def test_living_room_grid_blocks_furniture_walls_and_door_to_outside(client):
 @pytest.mark.parametrize("name", ["living_room", "low_battery_night", "nursing_home"])
 def test_planned_paths_keep_clear_of_every_obstacle(name, client):
     w = world(name, client)
-    nav = Navigator(w, RES, RADIUS)
+    nav = Navigator(w.house, RES, RADIUS)
     grid = nav.grid()
     free = np.argwhere(~grid.blocked)
     rng = np.random.default_rng(3)
@@ -94,7 +94,7 @@ def test_start_inside_an_inflated_obstacle_snaps_to_a_free_cell():
 
 def test_a_robot_in_a_pocket_behind_furniture_slides_out_where_its_base_fits(client):
     w = world("dislikes_dancing", client)    # behind the armchair, its corner 0.6 m from the wall
-    nav = Navigator(w, RES, RADIUS, body=CFG.charge.body_radius)
+    nav = Navigator(w.house, RES, RADIUS, body=CFG.charge.body_radius)
     body = nav.planner.body
     start, goal = (0.43, 0.37), (4.6, 1.0)
     path = nav.plan(start, goal)
@@ -103,7 +103,7 @@ def test_a_robot_in_a_pocket_behind_furniture_slides_out_where_its_base_fits(cli
     assert len(slide) > 2                                 # not one straight slide: round the corner
     assert all(body.visible(a, b) for a, b in pairwise(slide[1:]))
     assert not body.clear_ahead(start, slide[-1])         # the straight slide would hit the chair
-    assert Navigator(w, RES, RADIUS).plan(start, goal)[0] == slide[-1]   # which it was
+    assert Navigator(w.house, RES, RADIUS).plan(start, goal)[0] == slide[-1]   # which it was
 
 
 def test_clear_ahead_skips_the_blocked_cells_around_the_start_only():
@@ -144,7 +144,7 @@ def charge_run(name: str, max_seconds: float, charge_steps: int | None = 3,
     """Run the charge subtree with run_skill; (status, context, simulation)."""
     sim = Simulation(load_scenario(WORLDS / f"{name}.yaml"))
     if start is not None:
-        sim.robot.set_pose(*start)
+        sim.robot.base.set_pose(*start)
     ctx = make_context(sim, config=config)
     if charge_steps is not None:
         ctx.homeostasis.duration[ACTIONS.index("charge")] = charge_steps
@@ -169,9 +169,9 @@ def test_charge_docks_charges_and_unplugs(name, start):
         assert docked["position_error"] <= CFG.charge.dock_position_tolerance
         assert docked["yaw_error_deg"] <= CFG.charge.dock_yaw_tolerance_deg
         assert not ctx.events.of_kind("unplugged")[0]["interrupted"]
-        assert not sim.robot.charging and sim.robot.base_velocity == (0.0, 0.0, 0.0)
-        dock = sim.world.dock_pose()
-        assert math.dist(sim.robot.pose()[:2], dock[:2]) <= CFG.charge.dock_position_tolerance
+        assert not sim.robot.battery.charging and sim.robot.base.velocity == (0.0, 0.0, 0.0)
+        dock = sim.world.house.dock_pose()
+        assert math.dist(sim.robot.base.pose()[:2], dock[:2]) <= CFG.charge.dock_position_tolerance
     finally:
         sim.close()
 
@@ -182,7 +182,7 @@ def test_interrupted_while_charging_unplugs():
         assert status == Status.RUNNING        # still charging when run_skill stops the tree
         assert ctx.events.of_kind("docked") and ctx.events.of_kind("charging")
         assert ctx.events.of_kind("unplugged")[0]["interrupted"]
-        assert not sim.robot.charging
+        assert not sim.robot.battery.charging
     finally:
         sim.close()
 
@@ -193,7 +193,7 @@ def test_gives_up_after_the_timeout_and_stops():
     try:
         assert status == Status.FAILURE and ctx.events.of_kind("dock_failed")
         assert not ctx.events.of_kind("docked")
-        assert sim.robot.base_velocity == (0.0, 0.0, 0.0) and not sim.robot.charging
+        assert sim.robot.base.velocity == (0.0, 0.0, 0.0) and not sim.robot.battery.charging
     finally:
         sim.close()
 
@@ -216,7 +216,7 @@ def test_bad_charge_settings_are_refused_by_name(tmp_path, text, expected):
 def test_the_last_straight_knows_what_the_scanners_sensed_on_the_way():
     with Simulation(load_scenario(WORLDS / "low_battery_night.yaml")) as sim:
         sim.world.advance(0.0, 241.0)                   # Daniel has come in ...
-        sim.robot.set_pose(4.0, 2.0, 0.0)
+        sim.robot.base.set_pose(4.0, 2.0, 0.0)
         sim.world.people["Daniel"].place(5.0, 2.0, math.pi)   # ... and stands 1 m ahead
         tree = approach(make_context(sim, config=CFG))
         tree.setup_with_descendants()

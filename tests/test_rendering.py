@@ -43,10 +43,10 @@ def test_two_bands_make_the_whole_frame(tmp_path) -> None:
     with Simulation(busy_living_room(tmp_path)) as sim:
         robot = sim.robot
         for yaw in np.linspace(0, 2 * np.pi, 6, endpoint=False):
-            x, y, _ = robot.pose()
-            robot.set_pose(x, y, yaw)
-            whole = robot.camera_frame()
-            view, proj = robot.camera_matrices(320, 240)
+            x, y, _ = robot.base.pose()
+            robot.base.set_pose(x, y, yaw)
+            whole = robot.camera.frame()
+            view, proj = robot.camera.matrices(320, 240)
             bands = [tiny_render(sim.client, 320, r1 - r0, view, band_projection(proj, 240, r0, r1),
                                  p.ER_NO_SEGMENTATION_MASK,
                                  sim.world.light.camera_kwargs())[0][..., :3]
@@ -57,8 +57,8 @@ def test_two_bands_make_the_whole_frame(tmp_path) -> None:
 def test_the_helper_follows_people_and_boxes_and_draws_what_one_process_draws(tmp_path) -> None:
     scenario = busy_living_room(tmp_path)
     with Simulation(scenario) as one, Simulation(scenario, camera_helper=True) as split:
-        assert isinstance(split.robot.renderer, SplitRenderer)
-        x, y, _ = one.robot.pose()
+        assert isinstance(split.robot.camera.renderer, SplitRenderer)
+        x, y, _ = one.robot.base.pose()
         tom_seen = False
         for step in range(100):
             for sim in (one, split):
@@ -69,15 +69,15 @@ def test_the_helper_follows_people_and_boxes_and_draws_what_one_process_draws(tm
                     sim.world.take_away("box")
             if step % 5 == 0:
                 for sim in (one, split):     # turn to face Tom's walk, then the room
-                    sim.robot.set_pose(x, y, 0.35 * step / 5)
-                a, da = one.robot.camera_frame_with_depth()
-                b, db = split.robot.camera_frame_with_depth()
-                assert split.robot.renderer.alive
+                    sim.robot.base.set_pose(x, y, 0.35 * step / 5)
+                a, da = one.robot.camera.frame_with_depth()
+                b, db = split.robot.camera.frame_with_depth()
+                assert split.robot.camera.renderer.alive
                 assert differing(a, b) <= MAX_EDGE_PIXELS, step
                 assert np.abs(da - db).max() < 0.01
                 tom_seen |= "Tom" in one.world.people
-        _, seg = one.robot.camera_frame_with_segmentation()
-        _, seg2 = split.robot.camera_frame_with_segmentation()
+        _, seg = one.robot.camera.frame_with_segmentation()
+        _, seg2 = split.robot.camera.frame_with_segmentation()
         assert (seg != seg2).sum() <= MAX_EDGE_PIXELS        # the same body ids
         assert tom_seen and [e[0] for e in split.world.journal] == ["make", "make", "remove"]
 
@@ -86,17 +86,17 @@ def test_the_helper_follows_people_and_boxes_and_draws_what_one_process_draws(tm
 def test_a_failed_helper_is_dropped_and_frames_go_on(tmp_path, how, caplog) -> None:
     scenario = busy_living_room(tmp_path)
     with Simulation(scenario) as one, Simulation(scenario, camera_helper=True) as split:
-        renderer = split.robot.renderer
-        split.robot.camera_frame()
+        renderer = split.robot.camera.renderer
+        split.robot.camera.frame()
         if how == "kill":
             renderer._proc.kill()
             renderer._proc.join()
         else:   # a body the helper never heard of takes the id it expects next
             split.world.journal.append(("make", 999, "ghost", "<link name='base'/>"))
-        frame = split.robot.camera_frame()
+        frame = split.robot.camera.frame()
         assert not renderer.alive
         assert "camera helper dropped" in caplog.text
-        assert differing(frame, one.robot.camera_frame()) == 0
+        assert differing(frame, one.robot.camera.frame()) == 0
 
 
 def test_a_frame_with_shadows_is_drawn_whole_in_the_run(tmp_path) -> None:
@@ -105,4 +105,4 @@ def test_a_frame_with_shadows_is_drawn_whole_in_the_run(tmp_path) -> None:
         update={"shadows": True})})
     with Simulation(scenario) as one, Simulation(scenario, camera_helper=True) as split:
         assert split.world.light.shadows
-        assert differing(one.robot.camera_frame(), split.robot.camera_frame()) == 0
+        assert differing(one.robot.camera.frame(), split.robot.camera.frame()) == 0

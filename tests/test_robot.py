@@ -6,13 +6,10 @@ import numpy as np
 import pybullet as p
 import pytest
 
+from robot.joints import JOINT_NAMES
+from sim.head_camera import decode_segmentation
 from sim.power import MotorHeat
-from sim.robot import (
-    JOINT_NAMES,
-    URDF_PATH,
-    Robot,
-    decode_segmentation,
-)
+from sim.robot import URDF_PATH, Robot
 from sim.robot_config import load_robot_config
 
 DT = 1.0 / 240.0
@@ -54,7 +51,7 @@ def with_config(**sections):
 
 
 def camera_height(robot):
-    return float(robot.camera_pose()[0][2])
+    return float(robot.camera.pose()[0][2])
 
 
 def red_pixels(img):
@@ -92,11 +89,11 @@ def test_robot_stands_stable(world):
     robot = Robot(world, (0.5, -0.3, 0.4))
     height = camera_height(robot)
     run(world, robot, 3.0)
-    assert robot.pose() == pytest.approx((0.5, -0.3, 0.4), abs=1e-9)
-    assert robot.posture == "Stand"
-    assert robot.posture_reached()
+    assert robot.base.pose() == pytest.approx((0.5, -0.3, 0.4), abs=1e-9)
+    assert robot.joints.posture == "Stand"
+    assert robot.joints.posture_reached()
     stand = CFG.postures["Stand"]
-    assert robot.joint_positions() == pytest.approx(stand, abs=0.02)
+    assert robot.joints.positions() == pytest.approx(stand, abs=0.02)
     assert camera_height(robot) == pytest.approx(height, abs=0.005)
     assert 1.05 < height < 1.25
 
@@ -104,73 +101,75 @@ def test_robot_stands_stable(world):
 def test_crouch_reaches_rest_angles_and_lowers_the_camera(world):
     robot = Robot(world)
     standing = camera_height(robot)
-    robot.set_posture("crouch")                          # case-insensitive
-    assert not robot.posture_reached()
+    robot.joints.set_posture("crouch")                          # case-insensitive
+    assert not robot.joints.posture_reached()
     for _ in range(40):
         run(world, robot, 0.1)
-        if robot.posture_reached():
+        if robot.joints.posture_reached():
             break
-    assert robot.posture_reached() and robot.posture == "Crouch" and robot.resting
-    limits = robot.joint_limits()
+    joints = robot.joints
+    assert joints.posture_reached() and joints.posture == "Crouch" and joints.resting
+    limits = robot.joints.limits()
     crouch = {n: float(np.clip(a, *limits[n])) for n, a in CFG.postures["Crouch"].items()}
-    assert robot.joint_positions() == pytest.approx(crouch, abs=CFG.joints.position_tolerance)
+    assert robot.joints.positions() == pytest.approx(crouch, abs=CFG.joints.position_tolerance)
     assert camera_height(robot) < standing - 0.15
     with pytest.raises(ValueError, match="unknown posture"):
-        robot.set_posture("Handstand")
+        robot.joints.set_posture("Handstand")
 
 
 def test_a_blocked_arm_is_named_off_target(world):
     robot = Robot(world)
     add_box(world, (0.32, -0.2, 0.95), (0.04, 0.2, 0.3))   # a shelf in front of the right arm
     run(world, robot, 0.5)
-    assert robot.posture_reached() and robot.joints_off_target() == {}
-    robot.move_joints({"RShoulderPitch": -0.5}, 1.0)          # raise it forwards, into the shelf
+    assert robot.joints.posture_reached() and robot.joints.off_target() == {}
+    robot.joints.move({"RShoulderPitch": -0.5}, 1.0)          # raise it forwards, into the shelf
     run(world, robot, 3.0)
-    assert not robot.posture_reached()
-    off = robot.joints_off_target()
+    assert not robot.joints.posture_reached()
+    off = robot.joints.off_target()
     assert list(off) == ["RShoulderPitch"] and off["RShoulderPitch"] > 0.5
 
 
 def test_move_joints_respects_speed_and_limits(world):
     robot = Robot(world)
-    vmax = dict(zip(JOINT_NAMES, robot.max_velocity, strict=True))
-    robot.move_joints({"HeadYaw": 1.5, "HeadPitch": 3.0}, speed=0.25)
-    assert robot.posture is None
-    assert robot.joint_targets()["HeadPitch"] == pytest.approx(robot.joint_limits()["HeadPitch"][1])
-    previous = robot.joint_positions()["HeadYaw"]
+    vmax = dict(zip(JOINT_NAMES, robot.joints.max_velocity, strict=True))
+    robot.joints.move({"HeadYaw": 1.5, "HeadPitch": 3.0}, speed=0.25)
+    assert robot.joints.posture is None
+    top = robot.joints.limits()["HeadPitch"][1]
+    assert robot.joints.targets()["HeadPitch"] == pytest.approx(top)
+    previous = robot.joints.positions()["HeadYaw"]
     fastest = 0.0
     for _ in range(24):                                  # 0.1 s
         run(world, robot, DT)
-        now = robot.joint_positions()["HeadYaw"]
+        now = robot.joints.positions()["HeadYaw"]
         fastest = max(fastest, (now - previous) / DT)
         previous = now
     assert fastest <= 0.25 * vmax["HeadYaw"] * 1.05
     assert previous == pytest.approx(0.25 * vmax["HeadYaw"] * 0.1, abs=0.03)
     run(world, robot, 1.0)
-    assert robot.posture_reached()
-    got = robot.joint_positions()
+    assert robot.joints.posture_reached()
+    got = robot.joints.positions()
     assert got["HeadYaw"] == pytest.approx(1.5, abs=0.02)
     assert got["HeadPitch"] == pytest.approx(0.637, abs=0.02)  # clamped to the upper limit
     with pytest.raises(ValueError, match="unknown joints"):
-        robot.move_joints({"LeftEar": 0.1}, speed=0.5)
+        robot.joints.move({"LeftEar": 0.1}, speed=0.5)
     with pytest.raises(ValueError, match="speed"):
-        robot.move_joints({"HeadYaw": 0.0}, speed=1.5)
+        robot.joints.move({"HeadYaw": 0.0}, speed=1.5)
 
 
 # ------------------------------------------------------------------------------ base
 def test_base_velocity_is_in_the_robot_frame(world):
     robot = Robot(world, (1.0, 1.0, math.pi / 2))        # facing +y
-    robot.set_base_velocity(0.4, 0.0, 0.0)
+    robot.base.set_velocity(0.4, 0.0, 0.0)
     run(world, robot, 1.0)
-    assert robot.pose() == pytest.approx((1.0, 1.4, math.pi / 2), abs=1e-6)
-    robot.set_base_velocity(0.0, 0.3, 0.0)               # to its left: -x in the world
+    assert robot.base.pose() == pytest.approx((1.0, 1.4, math.pi / 2), abs=1e-6)
+    robot.base.set_velocity(0.0, 0.3, 0.0)               # to its left: -x in the world
     run(world, robot, 1.0)
-    assert robot.pose() == pytest.approx((0.7, 1.4, math.pi / 2), abs=1e-6)
-    robot.set_base_velocity(0.0, 0.0, -1.0)
+    assert robot.base.pose() == pytest.approx((0.7, 1.4, math.pi / 2), abs=1e-6)
+    robot.base.set_velocity(0.0, 0.0, -1.0)
     run(world, robot, 1.0)
-    assert robot.pose() == pytest.approx((0.7, 1.4, math.pi / 2 - 1.0), abs=1e-6)
-    robot.set_base_velocity(3.0, 4.0, 9.0)               # clamped to the limits
-    vx, vy, wz = robot.base_velocity
+    assert robot.base.pose() == pytest.approx((0.7, 1.4, math.pi / 2 - 1.0), abs=1e-6)
+    robot.base.set_velocity(3.0, 4.0, 9.0)               # clamped to the limits
+    vx, vy, wz = robot.base.velocity
     assert math.hypot(vx, vy) == pytest.approx(CFG.base.max_linear_speed)
     assert vx / vy == pytest.approx(0.75) and wz == CFG.base.max_angular_speed
 
@@ -178,19 +177,19 @@ def test_base_velocity_is_in_the_robot_frame(world):
 def test_a_wall_stops_the_base(world):
     wall = add_box(world, (1.5, 0.0, 0.5), (0.05, 2.0, 0.5))
     robot = Robot(world)
-    robot.set_base_velocity(0.5, 0.0, 0.0)
+    robot.base.set_velocity(0.5, 0.0, 0.0)
     run(world, robot, 4.0)
-    assert robot.blocked
-    x = robot.pose()[0]
+    assert robot.base.blocked
+    x = robot.base.pose()[0]
     assert 1.0 < x < 1.45 - 0.2                          # stopped in front of the wall
     gap = min(pt[8] for pt in p.getClosestPoints(robot.body_id, wall, 1.0, physicsClientId=world))
     assert 0.0 <= gap <= CFG.base.collision_margin + 0.01
-    robot.set_base_velocity(0.0, 0.3, 0.0)               # sliding along the wall is allowed
+    robot.base.set_velocity(0.0, 0.3, 0.0)               # sliding along the wall is allowed
     run(world, robot, 0.5)
-    assert robot.pose()[:2] == pytest.approx((x, 0.15), abs=1e-6) and not robot.blocked
-    robot.set_base_velocity(-0.3, 0.0, 0.0)              # and so is backing away
+    assert robot.base.pose()[:2] == pytest.approx((x, 0.15), abs=1e-6) and not robot.base.blocked
+    robot.base.set_velocity(-0.3, 0.0, 0.0)              # and so is backing away
     run(world, robot, 1.0)
-    assert robot.pose()[0] == pytest.approx(x - 0.3, abs=1e-6) and not robot.blocked
+    assert robot.base.pose()[0] == pytest.approx(x - 0.3, abs=1e-6) and not robot.base.blocked
 
 
 def test_walls_in_one_body_stop_the_base_in_a_corner(world):
@@ -200,10 +199,10 @@ def test_walls_in_one_body_stop_the_base_in_a_corner(world):
                                       physicsClientId=world)
     p.createMultiBody(0, col, physicsClientId=world)
     robot = Robot(world, (0.0, 1.0 - 0.05 - 0.23 - 0.01, 0.0))  # base 1 cm from the wall
-    robot.set_base_velocity(0.5, 0.0, 0.0)                    # along the first wall ...
+    robot.base.set_velocity(0.5, 0.0, 0.0)                    # along the first wall ...
     run(world, robot, 4.0)
-    x, y, _ = robot.pose()
-    assert robot.blocked and y == pytest.approx(0.71)         # ... into the second one
+    x, y, _ = robot.base.pose()
+    assert robot.base.blocked and y == pytest.approx(0.71)         # ... into the second one
     assert 2.0 - 0.05 - 0.23 - CFG.base.collision_margin - 0.01 < x < 2.0 - 0.05 - 0.23
 
 
@@ -211,21 +210,21 @@ def test_walls_in_one_body_stop_the_base_in_a_corner(world):
 def test_camera_sees_a_box_after_turning_towards_it(world):
     box = add_box(world, (0.0, 2.0, 0.9), (0.3, 0.3, 0.6))  # to the robot's left
     robot = Robot(world)
-    before = robot.camera_frame()
+    before = robot.camera.frame()
     assert before.shape == (240, 320, 3) and before.dtype == np.uint8
     assert red_pixels(before) == 0
-    robot.set_base_velocity(0.0, 0.0, 1.0)
+    robot.base.set_velocity(0.0, 0.0, 1.0)
     run(world, robot, math.pi / 2)
-    assert robot.pose()[2] == pytest.approx(math.pi / 2, abs=0.01)
-    rgb, mask = robot.camera_frame_with_segmentation()
+    assert robot.base.pose()[2] == pytest.approx(math.pi / 2, abs=0.01)
+    rgb, mask = robot.camera.frame_with_segmentation()
     assert red_pixels(rgb) > 0.05 * 240 * 320
     assert mask.shape == (240, 320)
     bodies, links = decode_segmentation(mask)
     assert box in set(bodies.ravel().tolist())
     assert set(links[bodies == box].ravel().tolist()) == {-1}
-    assert np.array_equal(rgb, robot.camera_frame())     # same view, same picture
-    robot.set_lighting({"lightAmbientCoeff": 0.1, "lightDiffuseCoeff": 0.2, "shadow": 0})
-    assert robot.camera_frame().mean() < rgb.mean()      # the world's lighting is used
+    assert np.array_equal(rgb, robot.camera.frame())     # same view, same picture
+    robot.camera.set_lighting({"lightAmbientCoeff": 0.1, "lightDiffuseCoeff": 0.2, "shadow": 0})
+    assert robot.camera.frame().mean() < rgb.mean()      # the world's lighting is used
 
 
 def test_decode_segmentation_splits_body_and_link():
@@ -240,23 +239,23 @@ def test_battery_drains_faster_when_moving_and_rises_while_charging(world):
     cfg = with_config(battery={"initial": 0.5})
     idle = Robot(world, (0.0, 0.0, 0.0), cfg)
     busy = Robot(world, (0.0, 3.0, 0.0), cfg)
-    busy.set_base_velocity(0.4, 0.0, 0.5)
-    busy.move_joints({"LShoulderPitch": -1.0, "RShoulderPitch": -1.0}, speed=0.5)
+    busy.base.set_velocity(0.4, 0.0, 0.5)
+    busy.joints.move({"LShoulderPitch": -1.0, "RShoulderPitch": -1.0}, speed=0.5)
     run(world, [idle, busy], 1.0)
-    idle_drain, busy_drain = 0.5 - idle.battery, 0.5 - busy.battery
+    idle_drain, busy_drain = 0.5 - idle.battery.level, 0.5 - busy.battery.level
     expected = cfg.battery.idle_power_w * 1.0 / 3600 / cfg.battery.capacity_wh
     assert idle_drain == pytest.approx(expected, rel=1e-6)
     assert busy_drain > 1.5 * idle_drain
-    idle.start_charging()
-    assert idle.charging
-    level = idle.battery
+    idle.battery.start_charging()
+    assert idle.battery.charging
+    level = idle.battery.level
     run(world, idle, 1.0)
-    assert idle.battery > level
-    idle.stop_charging()
-    level = idle.battery
+    assert idle.battery.level > level
+    idle.battery.stop_charging()
+    level = idle.battery.level
     run(world, idle, 0.5)
-    assert not idle.charging and idle.battery < level
-    assert 0.0 <= busy.battery <= 1.0
+    assert not idle.battery.charging and idle.battery.level < level
+    assert 0.0 <= busy.battery.level <= 1.0
 
 
 # ------------------------------------------------------------------------------ heat
@@ -265,20 +264,20 @@ def test_motor_temperature_heats_cools_and_trips_overheat(world):
     robot = Robot(world, config=cfg)
     ambient = cfg.thermal.ambient_c
     run(world, robot, 0.5)
-    assert robot.motor_temperature == pytest.approx(ambient)   # standing still: no heating
+    assert robot.thermal.temperature == pytest.approx(ambient)   # standing still: no heating
     up = {"LShoulderPitch": -1.0, "RShoulderPitch": -1.0, "LElbowYaw": 1.0, "RElbowYaw": -1.0}
     down = dict.fromkeys(up, 0.0) | {"LShoulderPitch": 1.5, "RShoulderPitch": 1.5}
     for i in range(6):                                   # wave the arms at full speed
-        robot.move_joints(up if i % 2 == 0 else down, speed=1.0)
+        robot.joints.move(up if i % 2 == 0 else down, speed=1.0)
         run(world, robot, 0.25)
-    assert robot.motor_temperature > 28.0 and robot.overheated
-    robot.set_posture("Crouch")
+    assert robot.thermal.temperature > 28.0 and robot.thermal.overheated
+    robot.joints.set_posture("Crouch")
     run(world, robot, 1.5)
-    hot = robot.motor_temperature
+    hot = robot.thermal.temperature
     for _ in range(90):                                  # rest (no physics needed for heat)
         robot.step(1.0)
-    assert robot.resting and robot.motor_temperature < hot
-    assert robot.motor_temperature <= 26.0 and not robot.overheated
+    assert robot.joints.resting and robot.thermal.temperature < hot
+    assert robot.thermal.temperature <= 26.0 and not robot.thermal.overheated
 
 
 def test_cooling_is_faster_in_the_rest_posture(world):
@@ -288,8 +287,8 @@ def test_cooling_is_faster_in_the_rest_posture(world):
     for _ in range(20):
         standing.step(0.5)
         resting.step(0.5)
-    assert not standing.resting and resting.resting
-    assert CFG.thermal.ambient_c < resting.motor_temperature < standing.motor_temperature < 45.0
+    assert not standing.joints.resting and resting.joints.resting
+    assert CFG.thermal.ambient_c < resting.thermal.temperature < standing.thermal.temperature < 45.0
 
 
 def test_motor_heat_model_is_exact_for_any_step():

@@ -13,7 +13,7 @@ from conftest import WEIGHTS
 from py_trees.common import Status
 from test_find_people import find
 
-from behaviours.context import make_context
+from app.wiring import make_context
 from behaviours.skills.detour import Detour
 from behaviours.skills.search import Search, remember
 from sim.layout import Placement

@@ -9,8 +9,8 @@ import numpy as np
 import pybullet as p
 import pytest
 
+from app.wiring import make_context
 from behaviours.config import load_behaviour_config
-from behaviours.context import make_context
 from behaviours.obstacle_sensing import ObstacleSensing
 from robot.lasers import Scan
 from robot.navigation import Navigator
@@ -82,8 +82,8 @@ def household() -> Iterator[tuple[Simulation, Navigator]]:
     """low_battery_night with Daniel in the house and the robot facing the bedroom wall."""
     sim = Simulation(load_scenario(WORLDS / "low_battery_night.yaml"))
     sim.world.advance(0.0, 241.0)                       # Daniel has come in
-    sim.robot.set_pose(*ROBOT)
-    nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
+    sim.robot.base.set_pose(*ROBOT)
+    nav = Navigator(sim.world.house, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
                     CFG.static_margin_m, CFG.sensed_clearance_m)
     yield sim, nav
     sim.close()
@@ -100,7 +100,7 @@ def test_a_person_behind_a_wall_is_not_among_the_planners_obstacles(household):
     nav.observe(sim.robot.lasers.scan(), 0.0)
     ctx = make_context(sim, config=load_behaviour_config())
     sensing = ObstacleSensing(ctx, nav)
-    sensing.update(0.0, sim.robot.camera_frame_with_depth()[1], 0.0)
+    sensing.update(0.0, sim.robot.camera.frame_with_depth()[1], 0.0)
     assert nav.grid().is_free(*BEHIND_WALL)             # ... and the wall hides him
     assert not nav.memory.active().any()                # the wall is the map's own
 
@@ -112,7 +112,7 @@ def test_a_person_in_front_is_sensed_and_forgotten_once_out_of_sight(household):
     nav.observe(sim.robot.lasers.scan(), 0.0)
     assert not nav.grid().is_free(*IN_FRONT)            # his legs, seen by the front scanner
     assert nav.plan(ROBOT[:2], (5.8, 2.0)) != [ROBOT[:2], (5.8, 2.0)]   # the way goes round
-    sim.robot.set_pose(ROBOT[0], ROBOT[1], math.pi)     # the robot turns its back on him
+    sim.robot.base.set_pose(ROBOT[0], ROBOT[1], math.pi)     # the robot turns its back on him
     nav.observe(sim.robot.lasers.scan(), CFG.obstacle_memory_s - 0.5)
     assert not nav.grid().is_free(*IN_FRONT)            # remembered ...
     nav.observe(sim.robot.lasers.scan(), CFG.obstacle_memory_s + 0.5)
@@ -123,7 +123,7 @@ def test_the_depth_camera_adds_the_person_it_sees(household):
     sim, nav = household
     place(sim, IN_FRONT)
     sensing = ObstacleSensing(make_context(sim, config=load_behaviour_config()), nav)
-    points = sensing.depth_points(sim.robot.camera_frame_with_depth()[1])
+    points = sensing.depth_points(sim.robot.camera.frame_with_depth()[1])
     near = np.hypot(points[:, 0] - IN_FRONT[0], points[:, 1] - IN_FRONT[1]) < 0.35
     assert near.sum() >= 10                             # his body, from legs to chest
     assert (points[:, 0] < 6.1).all()                   # nothing beyond the wall
@@ -199,7 +199,7 @@ def test_someone_who_stood_still_is_kept_out_of_sight_longer_than_a_walker():
 
 def test_a_person_walking_from_the_front_fan_into_the_gap_beside_it_is_still_avoided(household):
     sim, forgetful = household
-    nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
+    nav = Navigator(sim.world.house, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
                     CFG.static_margin_m, CFG.sensed_clearance_m, tracks=CFG.tracks)
     start, gap = np.array([4.8, 2.0]), np.array([4.45, 2.45])   # ahead; then 45 deg, 0.64 m
     for k in range(6):                                  # about 1 m/s, scanned at 10 Hz
@@ -221,12 +221,12 @@ def test_every_scanner_hit_on_the_maps_walls_and_furniture_is_explained(name):
     random free poses: ``static_margin_m`` is wide enough for the map's own surfaces."""
     scenario = load_scenario(WORLDS / f"{name}.yaml")
     with Simulation(scenario.model_copy(update={"people": ()})) as sim:
-        nav = Navigator(sim.world, CFG.grid_resolution, CFG.robot_radius, CFG.obstacle_memory_s,
-                        CFG.static_margin_m)
+        nav = Navigator(sim.world.house, CFG.grid_resolution, CFG.robot_radius,
+                        CFG.obstacle_memory_s, CFG.static_margin_m)
         free = np.argwhere(~nav.grid().blocked)
         rng = np.random.default_rng(0)
         for _ in range(150):
             x, y = nav.grid().centre(tuple(free[rng.integers(len(free))]))
-            sim.robot.set_pose(x, y, rng.uniform(-math.pi, math.pi))
+            sim.robot.base.set_pose(x, y, rng.uniform(-math.pi, math.pi))
             nav.observe(sim.robot.lasers.scan(), 0.0)
         assert not nav.memory.active().any()

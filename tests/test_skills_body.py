@@ -10,9 +10,10 @@ import pybullet as p
 import pytest
 from py_trees.common import Status
 
+from app.harness import run_skill
+from app.wiring import make_context
 from behaviours.blackboard import seed
-from behaviours.context import Context, make_context
-from behaviours.harness import run_skill
+from behaviours.context import Context
 from behaviours.skills import rest, sing_dance, stand_by
 from behaviours.skills.sing_dance import Dance
 from core.config_files import ConfigError
@@ -39,8 +40,8 @@ class Watch(py_trees.behaviour.Behaviour):
         self.seen: list[tuple] = []
 
     def update(self) -> Status:
-        r = self.robot
-        self.seen.append((r.posture, r.resting, r.posture_reached(), r.joint_positions()))
+        j = self.robot.joints
+        self.seen.append((j.posture, j.resting, j.posture_reached(), j.positions()))
         return Status.RUNNING
 
 
@@ -66,8 +67,8 @@ def living_room() -> Iterator[tuple[Simulation, Context]]:
 
 def assert_standing(robot: Robot) -> None:
     stand = robot.cfg.postures["Stand"]
-    assert robot.posture == "Stand"
-    targets = robot.joint_targets()
+    assert robot.joints.posture == "Stand"
+    targets = robot.joints.targets()
     assert all(abs(targets[j] - a) < 1e-6 for j, a in stand.items())
 
 
@@ -82,14 +83,14 @@ def test_rest_crouches_cools_faster_and_stands_up(tmp_path):
     assert any(name == "Crouch" and resting and reached for name, resting, reached, _ in watch.seen)
     assert ctx.events.of_kind("say")[0]["text"] == "I need to take a rest"
     assert_standing(ctx.robot)
-    assert ctx.robot.posture_reached()
-    rested = ctx.robot.motor_temperature
+    assert ctx.robot.joints.posture_reached()
+    rested = ctx.robot.thermal.temperature
     sim.close()
 
     standing = Simulation(load_scenario(WORLD), robot_config=hot)
     for _ in range(round(used / standing.dt)):
         standing.step()
-    assert rested < standing.robot.motor_temperature - 10.0
+    assert rested < standing.robot.thermal.temperature - 10.0
     standing.close()
 
 
@@ -102,8 +103,8 @@ def test_stand_by_sways_the_head_and_recentres(living_room):
     yaws = [q["HeadYaw"] for *_, q in watch.seen]
     assert max(yaws) > 0.2
     assert_standing(ctx.robot)
-    assert ctx.robot.posture_reached()
-    assert abs(ctx.robot.joint_positions()["HeadYaw"]) < 0.03
+    assert ctx.robot.joints.posture_reached()
+    assert abs(ctx.robot.joints.positions()["HeadYaw"]) < 0.03
 
 
 def test_sing_dance_moves_the_arms_and_sings(living_room):
@@ -116,19 +117,19 @@ def test_sing_dance_moves_the_arms_and_sings(living_room):
     start = watch.seen[0][3]
     moved = max(abs(q[j] - start[j]) for *_, q in watch.seen for j in ARMS)
     assert moved > 0.3
-    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joint_limits())
+    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joints.limits())
     routine = book.routines[0]
     assert ctx.events.of_kind("dance")[0]["title"] == routine.title
     sung = [e for e in ctx.events.of_kind("say") if e.get("song") == routine.title]
     assert [e["text"] for e in sung[:len(routine.lyrics)]] == [x.text for x in routine.lyrics]
     assert_standing(ctx.robot)
-    assert ctx.robot.posture_reached()
+    assert ctx.robot.joints.posture_reached()
 
 
 def test_dance_rotates_through_the_routines(living_room):
     sim, ctx = living_room
     seed(ctx, sim.scenario.robot.initial_drives())
-    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joint_limits())
+    book = load_dances(ctx.config.sing_dance.resolved_routines(), ctx.robot.joints.limits())
     dance = Dance(ctx, speed=0.5)
     dance.setup()
     titles = []
@@ -148,13 +149,13 @@ def test_interrupted_skill_leaves_the_robot_commanded_to_stand(living_room, acti
     assert_standing(ctx.robot)
     for _ in range(60):
         sim.step()
-    assert ctx.robot.posture_reached()
+    assert ctx.robot.joints.posture_reached()
 
 
 @pytest.fixture(scope="module")
 def limits() -> Iterator[dict[str, tuple[float, float]]]:
     cid = p.connect(p.DIRECT)
-    yield Robot(cid).joint_limits()
+    yield Robot(cid).joints.limits()
     p.disconnect(cid)
 
 

@@ -19,7 +19,7 @@ import numpy as np
 import py_trees
 import pytest
 
-from behaviours.context import make_context
+from app.wiring import make_context
 from behaviours.ticking import SimulationTree
 from behaviours.tree import build_tree, render
 from sim.scenario import load_scenario

@@ -46,10 +46,10 @@ def test_each_world_builds_and_is_consistent(name, client):
     expected = 3 + len(s.furniture) + len(s.objects) + len(present)
     assert p.getNumBodies(physicsClientId=client) == expected
     assert set(world.people_positions()) == {q.name for q in present}
-    start, dock = world.robot_start(), world.dock_pose()
+    start, dock = world.robot_start(), world.house.dock_pose()
     assert math.isclose(start.yaw, math.radians(s.robot.start.yaw))
     assert any(x0 < dock.x < x1 and y0 < dock.y < y1
-               for x0, y0, x1, y1 in world.room_bounds().values())
+               for x0, y0, x1, y1 in world.house.room_bounds().values())
     solid = [f for f in world.obstacles() if f.kind != "dock"]
     kinds = {f.kind for f in world.obstacles()}
     assert {"wall", "furniture", "dock"} <= kinds
@@ -219,8 +219,8 @@ def test_a_person_walking_into_the_robot_leaves_its_joints_alone():
     with Simulation(scenario) as sim:
         while sim.t < 6.0:
             sim.step()
-            measured = np.array(list(sim.robot.joint_positions().values()))
-            targets = np.array(list(sim.robot.joint_targets().values()))
+            measured = np.array(list(sim.robot.joints.positions().values()))
+            targets = np.array(list(sim.robot.joints.targets().values()))
             worst = max(worst, float(np.abs(measured - targets).max()))
         assert sim.world.people_positions()["Tom"].y > 3.5   # Tom walked through the robot
     assert worst < 0.05
@@ -239,7 +239,7 @@ def test_a_walking_person_goes_round_the_robot_or_stops_short_of_it(goal, arrive
     scenario = base.model_copy(update={"people": (tom,)})   # the robot stands at (4.3, 2.6)
     nearest = math.inf
     with Simulation(scenario) as sim:
-        rx, ry, _ = sim.robot.pose()
+        rx, ry, _ = sim.robot.base.pose()
         while sim.t < 12.0:
             sim.step()
             at = sim.world.people_positions()["Tom"]

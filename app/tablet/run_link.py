@@ -108,7 +108,7 @@ class RunTablet:
     def _hear(self, request: Request) -> None:
         sim, ctx = self.run.sim, self.run.ctx
         person = self.config.person
-        yaw = sim.robot.pose()[2]          # typed at the chest tablet: the words as given
+        yaw = sim.robot.base.pose()[2]          # typed at the chest tablet: the words as given
         line = HeardLine(sim.line_number(), sim.t, person, request.text, "robot", yaw)
         ctx.dialogue.context.mode = request.mode
         self._mode_line = clean_input(request.text) if request.mode != "auto" else None

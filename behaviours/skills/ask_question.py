@@ -46,7 +46,7 @@ class AskAboutView(ContextBehaviour):
         if gen is None:
             self.emit("no_question_generator")
             return
-        frame = self.bb.frame if self.bb.frame is not None else self.ctx.robot.camera_frame()
+        frame = self.bb.frame if self.bb.frame is not None else self.ctx.robot.camera.frame()
         people = people_in_view(self.ctx, self.bb.detections)
         questions = gen.ask(frame, self.ctx.config.ask_question.samples)
         checked = self._checked(questions, people)

@@ -67,7 +67,7 @@ class BoxSteering(ContextBehaviour):
         self.hits = 0                       # frames in which the track was seen
 
     def setup(self, **kwargs: Any) -> None:
-        self.heading = make_pid(self.cfg.heading_pid, self.ctx.robot.cfg.base.max_angular_speed)
+        self.heading = make_pid(self.cfg.heading_pid, self.ctx.robot.base.cfg.max_angular_speed)
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
         self.tan_half_hfov = 4 / 3 * self.range.tan_half_vfov
 
@@ -84,7 +84,7 @@ class BoxSteering(ContextBehaviour):
         t = self.bb.frame_t
         if self.bb.frame is None or t <= self._frame_t:
             if self.now - self._command_t > self.hold_s:
-                self.ctx.robot.stop()
+                self.ctx.robot.base.stop()
             return None
         dt = t - self._frame_t if math.isfinite(self._frame_t) else self.period
         self._frame_t = t
@@ -92,7 +92,7 @@ class BoxSteering(ContextBehaviour):
 
     def command(self, vx: float, vy: float, wz: float) -> None:
         """Drive (robot frame) until the next fresh frame."""
-        self.ctx.robot.set_base_velocity(vx, vy, wz)
+        self.ctx.robot.base.set_velocity(vx, vy, wz)
         self._command_t = self.now
 
     def offset(self, box: Detection) -> float:
@@ -122,7 +122,7 @@ class BoxSteering(ContextBehaviour):
         reach = self.distance(box)
         if reach is None:
             return None
-        x, y, yaw = self.ctx.robot.pose()
+        x, y, yaw = self.ctx.robot.base.pose()
         heading = yaw + self.bearing(box)
         return x + reach * math.cos(heading), y + reach * math.sin(heading)
 
@@ -140,7 +140,7 @@ class BoxSteering(ContextBehaviour):
         ``ignore_width_deg`` of an ``ignored`` one (rad). The best ``conf - gap to the
         track (rad)`` wins."""
         cfg = self.cfg
-        yaw = self.ctx.robot.pose()[2]
+        yaw = self.ctx.robot.base.pose()[2]
         bottom = self.bb.frame.shape[0] - cfg.bottom_margin_px
 
         def direction(d: Detection) -> float:
@@ -175,7 +175,7 @@ class BoxSteering(ContextBehaviour):
         self._track, self.hits = None, 0
 
     def terminate(self, new_status: Status) -> None:
-        self.ctx.robot.stop()
+        self.ctx.robot.base.stop()
 
 
 class Tracking(py_trees.decorators.PassThrough):
@@ -192,14 +192,14 @@ class Tracking(py_trees.decorators.PassThrough):
         self._head: dict[str, float] = {}
 
     def initialise(self) -> None:
-        targets = self.ctx.robot.joint_targets()
+        targets = self.ctx.robot.joints.targets()
         self._head = {j: targets[j] for j in ("HeadYaw", "HeadPitch")}
-        self.ctx.robot.move_joints(
+        self.ctx.robot.joints.move(
             {"HeadYaw": 0.0, "HeadPitch": self.ctx.config.find_people.head_pitch}, 1.0)
 
     def terminate(self, new_status: Status) -> None:
         self.bb.tracking = 0.0
-        self.ctx.robot.stop()
+        self.ctx.robot.base.stop()
         if self._head:
-            self.ctx.robot.move_joints(self._head, 1.0)
+            self.ctx.robot.joints.move(self._head, 1.0)
             self._head = {}

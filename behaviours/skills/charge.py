@@ -34,7 +34,7 @@ class StopBase(ContextBehaviour):
     """A driving leaf: the base stops whenever the leaf ends (done, failed or interrupted)."""
 
     def terminate(self, new_status: Status) -> None:
-        self.ctx.robot.set_base_velocity(0.0, 0.0, 0.0)
+        self.ctx.robot.base.set_velocity(0.0, 0.0, 0.0)
 
 
 class FollowPath(StopBase):
@@ -69,7 +69,7 @@ class FollowPath(StopBase):
         self.follower = self.ctx.path_follower()
 
     def _plan(self) -> None:
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         path = self.navigator.plan((x, y), self.goal)
         self._has_path = path is not None
         self._stuck_since = None
@@ -97,7 +97,7 @@ class FollowPath(StopBase):
         slides through first, if it does), keeps clear of the obstacles sensed since it was
         planned (the cells around the robot itself excepted)."""
         grid = self.navigator.sensed_grid()
-        rest = [self.ctx.robot.pose()[:2], *self._escape,
+        rest = [self.ctx.robot.base.pose()[:2], *self._escape,
                 *self.follower.path[self.follower.index:]]
         return grid.clear_ahead(rest[0], rest[1]) and all(
             grid.visible(a, b) for a, b in pairwise(rest[1:]))
@@ -105,24 +105,24 @@ class FollowPath(StopBase):
     def update(self) -> Status:
         robot = self.ctx.robot
         self._sense()
-        if self._has_path and self.follower.arrived(*robot.pose()[:2]):
+        if self._has_path and self.follower.arrived(*robot.base.pose()[:2]):
             return Status.SUCCESS
         if (self._has_path and self.now - self._planned_at >= self.ctx.config.charge.replan_sensed_s
                 and not self._path_ahead_clear()):
-            self.emit("replan", pose=list(robot.pose()), reason="sensed")
+            self.emit("replan", pose=list(robot.base.pose()), reason="sensed")
             self._plan()
-        if self._has_path and not robot.blocked and not self._held:
+        if self._has_path and not robot.base.blocked and not self._held:
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now
         elif self.now - self._stuck_since >= self.ctx.config.charge.replan_blocked_s:
-            self.emit("replan", pose=list(robot.pose()), reason="blocked")
+            self.emit("replan", pose=list(robot.base.pose()), reason="blocked")
             self._plan()
-        robot.set_base_velocity(*self._command())
+        robot.base.set_velocity(*self._command())
         return Status.RUNNING
 
     def _command(self) -> tuple[float, float, float]:
-        pose = self.ctx.robot.pose()
+        pose = self.ctx.robot.base.pose()
         if not self._has_path:
             return 0.0, 0.0, 0.0
         while self._escape and math.dist(pose[:2], self._escape[0]) <= ESCAPED_M:
@@ -138,7 +138,7 @@ class FollowPath(StopBase):
         while it is still turning (:meth:`PathFollower.approach`)."""
         tx, ty = self._escape[0]
         way = math.atan2(ty - pose[1], tx - pose[0])
-        facings = [math.radians(f) for f in self.ctx.robot.cfg.lasers.scanners.values()]
+        facings = [math.radians(f) for f in self.ctx.robot.lasers.cfg.scanners.values()]
         yaw = min((wrap_angle(way - f) for f in facings),
                   key=lambda h: abs(wrap_angle(h - pose[2])))
         return Pose2D(tx, ty, yaw)
@@ -181,20 +181,20 @@ class DockIn(StopBase):
 
     def _watch_blocked(self) -> None:
         cfg = self.ctx.config.charge
-        if not (self.ctx.robot.blocked or self._held):
+        if not (self.ctx.robot.base.blocked or self._held):
             self._blocked_since = None
             return
         self._blocked_since = self._blocked_since or self.now
         if not self._reported and self.now - self._blocked_since >= cfg.replan_blocked_s:
             self._reported = True
-            self.emit("dock_blocked", pose=[round(v, 3) for v in self.ctx.robot.pose()])
+            self.emit("dock_blocked", pose=[round(v, 3) for v in self.ctx.robot.base.pose()])
             self.ctx.speaker.say(cfg.dock_blocked, behaviour=self.name)
             self.ctx.ask_way()
 
     def update(self) -> Status:
         cfg, robot = self.ctx.config.charge, self.ctx.robot
         self._watch_blocked()
-        x, y, yaw = robot.pose()
+        x, y, yaw = robot.base.pose()
         offset = math.hypot(self.dock.x - x, self.dock.y - y)
         yaw_error = abs(wrap_angle(self.dock.yaw - yaw))
         yaw_tolerance = math.radians(cfg.dock_yaw_tolerance_deg)
@@ -206,7 +206,7 @@ class DockIn(StopBase):
         self.sensing.update(self.now, None, -math.inf)
         command, self._held = self.sensing.guard((x, y, yaw), (vx, vy, wz) if self._aligned
                                                  else (0.0, 0.0, wz))
-        robot.set_base_velocity(*command)
+        robot.base.set_velocity(*command)
         return Status.RUNNING
 
 
@@ -226,7 +226,7 @@ class Deadline(py_trees.decorators.PassThrough):
 
     def update(self) -> Status:
         if self.decorated.status == Status.RUNNING and self.ctx.now >= self._deadline:
-            x, y, yaw = self.ctx.robot.pose()
+            x, y, yaw = self.ctx.robot.base.pose()
             self.ctx.events.emit("dock_failed", behaviour=self.name, pose=[x, y, yaw],
                                  timeout_s=self.timeout_s)
             return Status.FAILURE
@@ -242,14 +242,14 @@ class PluggedIn(py_trees.decorators.PassThrough):
         self.ctx = ctx
 
     def initialise(self) -> None:
-        self.ctx.robot.start_charging()
-        self.ctx.events.emit("charging", behaviour=self.name, battery=self.ctx.robot.battery)
+        self.ctx.robot.battery.start_charging()
+        self.ctx.events.emit("charging", behaviour=self.name, battery=self.ctx.robot.battery.level)
 
     def terminate(self, new_status: Status) -> None:
-        if self.ctx.robot.charging:
-            self.ctx.robot.stop_charging()
+        if self.ctx.robot.battery.charging:
+            self.ctx.robot.battery.stop_charging()
             self.ctx.events.emit("unplugged", behaviour=self.name,
-                                 battery=self.ctx.robot.battery,
+                                 battery=self.ctx.robot.battery.level,
                                  interrupted=new_status == Status.INVALID)
 
 
@@ -258,7 +258,7 @@ def approach(ctx: Context) -> py_trees.behaviour.Behaviour:
     leaves share one obstacle sensing (made in the first one's ``setup``), so what the
     scanners saw and track on the way is still known on the last straight."""
     cfg = ctx.config.charge
-    dock = ctx.world.dock_pose()
+    dock = ctx.floor_plan.dock_pose()
     predock = predock_pose(dock, cfg.predock_distance)
     sensing = cache(lambda: ObstacleSensing.for_charge(ctx))
     steps = py_trees.composites.Sequence("Approach dock", memory=True, children=[

@@ -41,11 +41,12 @@ class Detour:
     def __init__(self, ctx: Context) -> None:
         self.cfg = ctx.config.find_people
         charge = ctx.config.charge
-        self.planner = Navigator(ctx.world, charge.grid_resolution, charge.robot_radius).planner
-        world = ctx.world
-        tall = [f for f in world.obstacles() if f.kind == "wall" or (
-            f.kind == "furniture" and world.furniture_top(f.name) > SIGHT_HEIGHT_M)]
-        self.sight = OccupancyGrid.build(world.room_bounds().values(), tall,
+        self.planner = Navigator(ctx.floor_plan, charge.grid_resolution,
+                                 charge.robot_radius).planner
+        plan = ctx.floor_plan
+        tall = [f for f in plan.obstacles() if f.kind == "wall" or (
+            f.kind == "furniture" and plan.furniture_top(f.name) > SIGHT_HEIGHT_M)]
+        self.sight = OccupancyGrid.build(plan.room_bounds().values(), tall,
                                          charge.grid_resolution, SIGHT_CLEARANCE_M)
         self.follower = ctx.path_follower()
         self.target: Point | None = None    # the person's estimated position (None: a search goal)

@@ -102,7 +102,7 @@ class ApproachPerson(BoxSteering):
         self.ignored.expire(self.now)
         if self.detour.active and self._walking is None:
             return self._drive_detour()
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         person = self.follow(detections, self.ignored.headings_from(x, y))
         if person is None or self.hits < self.cfg.confirm_frames:
             if self.detour.active:
@@ -146,8 +146,8 @@ class ApproachPerson(BoxSteering):
             self.approach.reset()
             self._seen = self._close_since = self._near_since = -math.inf
             self._faces = 0
-        vx, vy, wz = self.ctx.robot.base_velocity
-        if self.ctx.robot.blocked and vx == vy == 0.0 and wz * self._turn > 0:
+        vx, vy, wz = self.ctx.robot.base.velocity
+        if self.ctx.robot.base.blocked and vx == vy == 0.0 and wz * self._turn > 0:
             if self.now - self._reversed < math.tau / self.cfg.search_turn_speed:
                 self.escape.begin(self.now)
             self._turn, self._reversed = -self._turn, self.now
@@ -180,7 +180,7 @@ class ApproachPerson(BoxSteering):
     def _walk_on(self) -> bool:
         """Nobody to greet all the way round: note this room as searched in vain and walk
         to where to search next; whether the robot walks."""
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         room = self.search.room_of((x, y))
         if room is not None:
             self.bb.rooms_searched = {**self.bb.rooms_searched, room: self.now}
@@ -222,7 +222,7 @@ class ApproachPerson(BoxSteering):
         near_at = self._near_since if math.isfinite(self._near_since) else math.inf
         face_clock = min(near_at, self._close_since + cfg.backoff_s)
         waited = max(0.0, self.now - face_clock) if close else 0.0
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         reading = self.front.read(self.bb.frame, person, self.locate(person), dist, (x, y))
         if (reading is not None and self._faces < cfg.face_frames
                 and self._detours < cfg.max_detours and self._to_front(reading[1], waited)
@@ -261,14 +261,14 @@ class ApproachPerson(BoxSteering):
               and person.box[1] >= self.cfg.seated_box_top * height):
             pitch = self.cfg.seated_head_pitch
         if pitch is not None:
-            self.ctx.robot.move_joints({"HeadPitch": pitch}, 1.0)
+            self.ctx.robot.joints.move({"HeadPitch": pitch}, 1.0)
 
     def _across(self, dist: float | None) -> bool:
         """Whether the followed person is within ``greet_max_m`` and the map leaves the
         robot no room nearer them on this side (a table between them)."""
         if dist is None or dist > self.cfg.greet_max_m or self._spot is None:
             return False
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         return not self.detour.can_stand_near((x, y), self._spot)
 
     def _to_front(self, turned: float, waited: float) -> bool:
@@ -285,7 +285,7 @@ class ApproachPerson(BoxSteering):
         ``to_front``, because they look away from the robot; either way towards the spot
         nearest their ``front`` when the facing model has read it."""
         spot = self.locate(person)
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         if spot is None or not (to_front or self.detour.obstructed((x, y), spot)):
             return False
         path = self.detour.start((x, y), spot, front)
@@ -302,13 +302,13 @@ class ApproachPerson(BoxSteering):
         """Follow the detour. Once it is over (or the base is blocked on it), the robot
         faces where the person was estimated, and the visual approach goes on from there."""
         robot = self.ctx.robot
-        command = None if robot.blocked else self.detour.command(robot.pose())
+        command = None if robot.base.blocked else self.detour.command(robot.base.pose())
         if command is not None:
             self.command(*command)
             return Status.RUNNING
         self.detour.cancel()
         if self.detour.target is not None:
-            x, y, _ = robot.pose()
+            x, y, _ = robot.base.pose()
             tx, ty = self.detour.target
             self.look_towards(math.atan2(ty - y, tx - x))
             self._seen = self.now
@@ -325,7 +325,7 @@ class ApproachPerson(BoxSteering):
             return
         self._ignore(self._track)
         self.emit("no_face", bearing_deg=round(math.degrees(math.remainder(
-            self._track - self.ctx.robot.pose()[2], math.tau)), 2),
+            self._track - self.ctx.robot.base.pose()[2], math.tau)), 2),
             face_frames=self._faces, vanished=count)
 
     def _orbit(self, waited: float) -> float:
@@ -337,7 +337,7 @@ class ApproachPerson(BoxSteering):
     def _ignore(self, heading: float) -> None:
         """Ignore the followed person's spot (or, not located, a spot 1 m along their world
         ``heading``) for ``ignore_s``."""
-        x, y, _ = self.ctx.robot.pose()
+        x, y, _ = self.ctx.robot.base.pose()
         spot = self._spot or (x + math.cos(heading), y + math.sin(heading))
         self.ignored.add(spot, self.now)
         self._spot = None
@@ -346,7 +346,7 @@ class ApproachPerson(BoxSteering):
         """The person close by has not shown their face: ignore where they are for
         ``ignore_s`` and search on."""
         bearing = self.bearing(person)
-        self._ignore(self.ctx.robot.pose()[2] + bearing)
+        self._ignore(self.ctx.robot.base.pose()[2] + bearing)
         self.emit("no_face", bearing_deg=round(math.degrees(bearing), 2), face_frames=self._faces)
         self.forget()
         self._seen = self._close_since = self._near_since = -math.inf
@@ -355,7 +355,7 @@ class ApproachPerson(BoxSteering):
 
     def _avoid(self, vx: float, wz: float) -> tuple[float, float, float]:
         """The (vx, vy, wz) command: the controllers' own, or the :class:`Escape` under way."""
-        return self.escape.command(self.now, self.ctx.robot.blocked, vx, wz)
+        return self.escape.command(self.now, self.ctx.robot.base.blocked, vx, wz)
 
 
 class KeepCentred(BoxSteering):

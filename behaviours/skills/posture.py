@@ -9,7 +9,7 @@ from py_trees.common import Status
 
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
-from sim.robot import Robot
+from robot.body import Body
 
 STAND = "Stand"
 
@@ -28,15 +28,15 @@ class GoToPosture(ContextBehaviour):
         self._deadline = 0.0
 
     def initialise(self) -> None:
-        self.ctx.robot.set_posture(self.posture, self.speed)
+        self.ctx.robot.joints.set_posture(self.posture, self.speed)
         self._deadline = self.now + self.timeout_s
 
     def update(self) -> Status:
-        if self.ctx.robot.posture_reached():
+        if self.ctx.robot.joints.posture_reached():
             return Status.SUCCESS
         if self.now >= self._deadline:
             self.emit("posture_timeout", posture=self.posture,
-                      off_target=self.ctx.robot.joints_off_target())
+                      off_target=self.ctx.robot.joints.off_target())
             return Status.FAILURE
         return Status.RUNNING
 
@@ -45,11 +45,11 @@ class StandOnExit(py_trees.decorators.PassThrough):
     """Pass the child's status through; when the child is interrupted while running (stopped
     with INVALID, e.g. by the action's guard) or fails, command the Stand posture."""
 
-    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, robot: Robot) -> None:
+    def __init__(self, name: str, child: py_trees.behaviour.Behaviour, robot: Body) -> None:
         super().__init__(name, child)
         self.robot = robot
 
     def terminate(self, new_status: Status) -> None:
         interrupted = new_status == Status.INVALID and self.status == Status.RUNNING
         if interrupted or new_status == Status.FAILURE:
-            self.robot.set_posture(STAND)
+            self.robot.joints.set_posture(STAND)

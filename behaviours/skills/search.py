@@ -42,8 +42,8 @@ class Search:
 
     def __init__(self, ctx: Context, detour: Detour) -> None:
         self.cfg: FindPeopleConfig = ctx.config.find_people
-        self.rooms = ctx.world.room_bounds()
-        self.walls = [f for f in ctx.world.obstacles() if f.kind == "wall"]
+        self.rooms = ctx.floor_plan.room_bounds()
+        self.walls = [f for f in ctx.floor_plan.obstacles() if f.kind == "wall"]
         self.detour = detour
         self.turned = 0.0     # rad turned in place since the robot last moved on
 

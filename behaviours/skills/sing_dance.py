@@ -35,7 +35,7 @@ class Dance(ContextBehaviour):
 
     def setup(self, **kwargs: Any) -> None:
         book = load_dances(self.ctx.config.sing_dance.resolved_routines(),
-                           self.ctx.robot.joint_limits())
+                           self.ctx.robot.joints.limits())
         self.routines = list(book.routines)
 
     def initialise(self) -> None:
@@ -59,7 +59,7 @@ class Dance(ContextBehaviour):
             self._begin_pass(self._pass_start + r.length_s)
         due = self.now - self._pass_start + 1e-9
         while self._next_frame < len(r.keyframes) and r.keyframes[self._next_frame].at <= due:
-            self.ctx.robot.move_joints(r.keyframes[self._next_frame].targets(), self.speed)
+            self.ctx.robot.joints.move(r.keyframes[self._next_frame].targets(), self.speed)
             self._next_frame += 1
         while self._next_line < len(r.lyrics) and r.lyrics[self._next_line].at <= due:
             self.ctx.speaker.say(r.lyrics[self._next_line].text, behaviour=self.name,

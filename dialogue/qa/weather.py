@@ -29,7 +29,7 @@ from core.config_files import format_loc
 from dialogue.qa.base import Answer, DialogueError
 from dialogue.qa.places import find_place, lookup
 from dialogue.qa.text import normalise
-from sim.scenario import Weather, WeatherDay
+from robot.forecast import Weather, WeatherDay
 
 
 @dataclass(frozen=True)

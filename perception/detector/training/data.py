@@ -23,10 +23,11 @@ import yaml
 from core.checkpoint import atomic_write_bytes
 from perception.detector.config import DataConfig
 from sim.furnishings import furniture_parts
+from sim.head_camera import decode_segmentation
+from sim.house import WALL_THICKNESS
 from sim.lighting import Light
 from sim.people import POSES, Appearance, Part, Person, PoseName, build_body
-from sim.robot import Robot, decode_segmentation
-from sim.world import WALL_THICKNESS
+from sim.robot import Robot
 
 Rgb = tuple[float, float, float]
 CLASSES = ("person", "face")
@@ -205,7 +206,7 @@ class DetectorScene:
         self.client = p.connect(p.DIRECT)
         self.robot = Robot(self.client)
         w, h = cfg.image.width, cfg.image.height
-        vfov = math.radians(self.robot.cfg.camera.fov_deg)
+        vfov = math.radians(self.robot.camera.cfg.fov_deg)
         self.hfov = 2 * math.atan(math.tan(vfov / 2) * w / h)
         names = [p.getJointInfo(self.robot.body_id, j, physicsClientId=self.client)[1].decode()
                  for j in range(p.getNumJoints(self.robot.body_id, physicsClientId=self.client))]
@@ -220,7 +221,7 @@ class DetectorScene:
         return sample_scene(seed, self.cfg, self.hfov)
 
     def _render(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        rgb, seg = self.robot.camera_frame_with_segmentation(self.cfg.image.width,
+        rgb, seg = self.robot.camera.frame_with_segmentation(self.cfg.image.width,
                                                              self.cfg.image.height)
         bodies, links = decode_segmentation(seg)
         return rgb, bodies, links
@@ -234,7 +235,7 @@ class DetectorScene:
             built.append(build_body(self.client, f.kind, parts, (f.x, f.y, 0), f.yaw))
         people = [Person(self.client, q.appearance, q.x, q.y, q.yaw, q.pose, f"person_{i}")
                   for i, q in enumerate(spec.people)]
-        self.robot.set_lighting(spec.light.camera_kwargs())
+        self.robot.camera.set_lighting(spec.light.camera_kwargs())
         p.resetJointState(self.robot.body_id, self._head_pitch, spec.head_pitch,
                           physicsClientId=self.client)
         try:
@@ -285,7 +286,7 @@ class DetectorScene:
                bodies: np.ndarray, links: np.ndarray) -> list[Box]:
         """Boxes from the mask, filtered by the rule in docs/detector.md."""
         cfg, boxes = self.cfg, []
-        eye = self.robot.camera_pose()[0]
+        eye = self.robot.camera.pose()[0]
         for q, person in zip(spec.people, people, strict=True):
             mine = bodies == person.body_id
             if not mine.any():

@@ -63,7 +63,7 @@ def spec_examples(scene: DetectorScene, spec: SceneSpec, cfg: FacingDataConfig
                   ) -> list[Example]:
     """(crop, facing angle, pose, distance) of each usable person in the frame of ``spec``."""
     rgb, seen = scene.people_in_frame(spec)
-    eye = scene.robot.camera_pose()[0]
+    eye = scene.robot.camera.pose()[0]
     out = []
     for i, box, visible in seen:
         if box.y1 - box.y0 + 1 < cfg.min_box_px or visible < cfg.min_visible_fraction:

@@ -39,8 +39,8 @@ from perception.vqg.training.dataset import VqgDataError, read_image
 from perception.vqg.training.evaluate import Item, question_metrics
 from perception.vqg.training.render import visible_graph
 from sim.furnishings import FURNITURE_COLOURS, OBJECT_COLOURS
+from sim.head_camera import decode_segmentation
 from sim.layout import rgb
-from sim.robot import decode_segmentation
 from sim.scenario import Scenario
 from sim.simulation import Simulation
 
@@ -58,7 +58,7 @@ def palette_name(colour: Rgb) -> str:
 def _room_kind(sim: Simulation) -> str:
     """The kind of the room the robot stands in; a living room when it is no kind the
     scenes know (a corridor, a hall)."""
-    x, y, _ = sim.robot.pose()
+    x, y, _ = sim.robot.base.pose()
     for room in sim.scenario.rooms:
         if room.x[0] <= x <= room.x[1] and room.y[0] <= y <= room.y[1]:
             kind = room.kind or room.name
@@ -70,7 +70,7 @@ def world_nodes(sim: Simulation) -> tuple[list[Node], dict[str, int]]:
     """Every furniture item, object and person of the world as a node (positions relative to
     the robot), and the PyBullet body of each."""
     world, scenario = sim.world, sim.scenario
-    rx, ry, _ = sim.robot.pose()
+    rx, ry, _ = sim.robot.base.pose()
     nodes: list[Node] = []
     for f in scenario.furniture:
         if f.type in FURNITURE:
@@ -110,7 +110,7 @@ def household_scene(sim: Simulation, visibility: VisibilityConfig
                     ) -> tuple[np.ndarray, SceneGraph]:
     """The robot's head-camera frame now and the scene graph of what it shows."""
     check_occasion(sim.scenario)
-    frame, mask = sim.robot.camera_frame_with_segmentation()
+    frame, mask = sim.robot.camera.frame_with_segmentation()
     bodies, links = decode_segmentation(mask)
     nodes, ids = world_nodes(sim)
     graph = SceneGraph(_room_kind(sim), sim.scenario.occasion, nodes,

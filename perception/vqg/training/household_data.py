@@ -37,20 +37,20 @@ def _free(world: World, x: float, y: float, clearance: float) -> bool:
     """Whether the robot's centre at ``(x, y)`` is inside a room and clear of every wall,
     furniture item, object, the dock and every person by ``clearance``."""
     inside = any(x0 + clearance <= x <= x1 - clearance and y0 + clearance <= y <= y1 - clearance
-                 for x0, y0, x1, y1 in world.room_bounds().values())
+                 for x0, y0, x1, y1 in world.house.room_bounds().values())
     return inside and not any(f.contains(x, y, clearance)
                               for f in world.obstacles(include_people=True))
 
 
 def _room_pose(sim: Simulation, hh: HouseholdConfig, rng: np.random.Generator) -> bool:
     """Put the robot at a free place of a random room, any heading, a search or rest head."""
-    rooms = list(sim.world.room_bounds().values())
+    rooms = list(sim.world.house.room_bounds().values())
     for _ in range(hh.attempts):
         x0, y0, x1, y1 = rooms[rng.integers(len(rooms))]
         x, y = rng.uniform(x0, x1), rng.uniform(y0, y1)
         if _free(sim.world, x, y, hh.clearance_m):
-            sim.robot.set_pose(x, y, rng.uniform(-math.pi, math.pi))
-            sim.robot.set_joint_positions({"HeadPitch": rng.uniform(*hh.head_pitch),
+            sim.robot.base.set_pose(x, y, rng.uniform(-math.pi, math.pi))
+            sim.robot.joints.set_positions({"HeadPitch": rng.uniform(*hh.head_pitch),
                                            "HeadYaw": rng.uniform(*hh.head_yaw)})
             return True
     return False
@@ -71,13 +71,13 @@ def _person_pose(sim: Simulation, hh: HouseholdConfig, rng: np.random.Generator)
         if not _free(sim.world, x, y, hh.clearance_m):
             continue
         aim = math.atan2(person.y - y, person.x - x)
-        sim.robot.set_pose(x, y, aim + math.radians(rng.uniform(-hh.aim_jitter_deg,
+        sim.robot.base.set_pose(x, y, aim + math.radians(rng.uniform(-hh.aim_jitter_deg,
                                                                   hh.aim_jitter_deg)))
-        sim.robot.set_joint_positions({"HeadPitch": 0.0, "HeadYaw": 0.0})
-        eye = sim.robot.camera_pose()[0]
+        sim.robot.joints.set_positions({"HeadPitch": 0.0, "HeadYaw": 0.0})
+        eye = sim.robot.camera.pose()[0]
         face_z = person.aabb()[1][2] - 0.12
         pitch = math.atan2(eye[2] - face_z, math.hypot(person.x - x, person.y - y))
-        sim.robot.set_joint_positions({
+        sim.robot.joints.set_positions({
             "HeadPitch": pitch + rng.uniform(-hh.face_pitch_jitter, hh.face_pitch_jitter)})
         return True
     return False

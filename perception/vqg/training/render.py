@@ -99,7 +99,7 @@ class VqgRenderer(DetectorScene):
                 else:
                     ids[n.id] = self._object(n)
                 built.append(ids[n.id])
-            self.robot.set_lighting(plan.room.light.camera_kwargs())
+            self.robot.camera.set_lighting(plan.room.light.camera_kwargs())
             p.resetJointState(self.robot.body_id, self._head_pitch, plan.room.head_pitch,
                               physicsClientId=self.client)
             rgb, bodies, links = self._render()
