@@ -207,8 +207,8 @@ def _instrument(run: HouseholdRun, profile: Profile) -> None:
     renders, each model, the speech, the writers and the tree's own ticking."""
     sim, ctx = run.sim, run.ctx
     profile.wrap(sim, "step", "simulation step")
-    for method in ("camera_frame", "camera_frame_with_depth"):
-        profile.wrap(sim.robot, method, "render")
+    for method in ("frame", "frame_with_depth"):
+        profile.wrap(sim.robot.camera, method, "render")
     profile.wrap(ctx.detector, "detect", "detect")
     profile.wrap(ctx.facing, "facing", "facing model")
     profile.wrap(ctx.dialogue, "respond", "dialogue")

@@ -30,7 +30,7 @@ class ScenarioCamera:
         client = p.connect(p.DIRECT)
         world = World.from_file(self.scenario_path, client)
         self._robot = Robot(client, pose=tuple(world.robot_start()))
-        self._robot.set_lighting(world.light.camera_kwargs())
+        self._robot.camera.set_lighting(world.light.camera_kwargs())
 
     def __call__(self) -> Path:
         """Render the head camera and save the frame; returns the PNG's path."""
