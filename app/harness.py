@@ -28,13 +28,10 @@ def run_skill(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviour
     """Tick ``skill`` as the running ``action`` until it succeeds or fails or ``max_seconds``
     of simulated time pass; returns its last status and the simulated seconds used."""
     tree = skill_tree(sim, ctx, skill, action)
-    start = sim.t
     tree.setup()
-    while sim.t - start < max_seconds:
-        tree.tick()
-        if skill.status in (Status.SUCCESS, Status.FAILURE):
-            break
+    used = tree.run(seconds=max_seconds,
+                    until=lambda: skill.status in (Status.SUCCESS, Status.FAILURE))
     status = skill.status
     if status == Status.RUNNING:
         tree.stop()
-    return status, sim.t - start
+    return status, used

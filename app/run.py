@@ -52,6 +52,7 @@ from perception.vqg.scene import SceneGraph
 from perception.vqg.training.data_config import load_vqg_data_config
 from perception.vqg.training.household import check_occasion, household_scene, judge_question
 from robot.dances import song_names
+from sim.household_sound import Hearing
 from sim.scenario import Scenario, load_scenario
 from sim.simulation import Simulation
 
@@ -128,6 +129,8 @@ class RunOptions:
     (:class:`~sim.split_render.SplitRenderer`; None: the machine's cores). ``profile``:
     time the run's parts (:mod:`core.profiling`). ``tablet``: an
     :class:`app.tablet.run_link.RunTablet` that a web server feeds during the run.
+    ``hearing``: ``"fast"`` hears audible lines as said, from the acoustics' levels alone,
+    with no voice synthesised or recognised (sweeps; docs/speech.md says what it overstates).
     """
 
     gui: bool = False
@@ -140,6 +143,7 @@ class RunOptions:
     threads: int | None = None
     profile: bool = False
     tablet: Any = None
+    hearing: Hearing = "audio"
 
 
 def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
@@ -159,7 +163,8 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
     detector: Any = YoloDetector.from_config(detect)
     cores = options.threads or os.cpu_count() or 1
     sim = Simulation(scenario, gui=options.gui, camera_helper=cores >= 2 and not options.gui,
-                     voices_dir=out / "audio" / "people" if options.audio else None)
+                     voices_dir=out / "audio" / "people" if options.audio else None,
+                     hearing=options.hearing)
     saver = FrameSaver(out / "frames", lambda: sim.t)
 
     def take_photo() -> Path:
@@ -285,32 +290,37 @@ def _play(run: HouseholdRun, progress: bool, wall0: float) -> KeyboardInterrupt 
     ctx.events.emit("run_started", scenario=scenario.name, seed=scenario.seed,
                     duration=scenario.duration, step=scenario.step)
     seen, next_sample = 0, 0.0
+
+    def record() -> None:
+        """After each tick: the timeline's rows, what people said, the photos and the
+        ground truth of what the robot did and asked, the memory now and then."""
+        nonlocal seen, next_sample
+        run.timeline.write(ctx.steps.take())
+        for said in sim.sound.said:   # what people said, for scoring the hearing
+            ctx.events.emit("line_said", **said)
+        sim.sound.said.clear()
+        for e in ctx.events.events[seen:]:
+            if e["kind"] == "action":
+                frame, scene = scene_of(sim, visibility)
+                saver(e["action"], frame, scene)
+            elif e["kind"] == "question":  # scored by the world's ground truth
+                _, scene = scene_of(sim, visibility)
+                saver.describe(e["frame"], scene)
+                ctx.events.emit("question_truth", question=e["text"],
+                                **judge_question(e["text"], scene))
+        seen = len(ctx.events.events)
+        if sim.t >= next_sample:   # memory over time, for soaks (bench/bench_soak.py)
+            ctx.events.emit("resources", rss_mb=resident_mb(),
+                            wall_s=round(time.perf_counter() - wall0, 1))
+            next_sample += RESOURCE_PERIOD_S
+        bar.update(scenario.step)
+
     try:
         with terminable(), tqdm(total=scenario.duration, unit="sim s",
                                 disable=None if progress else True,  # None: not off a tty
                                 bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} sim s "
                                 "[{elapsed}]") as bar:
-            for _ in range(round(scenario.duration / scenario.step)):
-                tree.tick()
-                run.timeline.write(ctx.steps.take())
-                for said in sim.sound.said:   # what people said, for scoring the hearing
-                    ctx.events.emit("line_said", **said)
-                sim.sound.said.clear()
-                for e in ctx.events.events[seen:]:
-                    if e["kind"] == "action":
-                        frame, scene = scene_of(sim, visibility)
-                        saver(e["action"], frame, scene)
-                    elif e["kind"] == "question":  # scored by the world's ground truth
-                        _, scene = scene_of(sim, visibility)
-                        saver.describe(e["frame"], scene)
-                        ctx.events.emit("question_truth", question=e["text"],
-                                        **judge_question(e["text"], scene))
-                seen = len(ctx.events.events)
-                if sim.t >= next_sample:   # memory over time, for soaks (bench/bench_soak.py)
-                    ctx.events.emit("resources", rss_mb=resident_mb(),
-                                    wall_s=round(time.perf_counter() - wall0, 1))
-                    next_sample += RESOURCE_PERIOD_S
-                bar.update(scenario.step)
+            tree.run(steps=round(scenario.duration / scenario.step), after_tick=record)
     except KeyboardInterrupt as interrupt:
         ctx.events.emit("interrupted", signal=signal_name(interrupt))
         return interrupt
@@ -333,6 +343,7 @@ def _finish(run: HouseholdRun, out: Path, interrupt: KeyboardInterrupt | None, w
         "scenario": scenario.name, "seed": scenario.seed, "duration_s": sim.t,
         "interrupted": interrupt is not None,
         "interrupted_by": signal_name(interrupt) if interrupt is not None else None,
+        "hearing": sim.sound.hearing,
         **compute_metrics(ctx.steps, ctx.events.events),
         "faults": fault_report(ctx.events.events),
         "camera_frames": ctx.frames_taken,

@@ -43,6 +43,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--audio", action="store_true",
                    help="also speak the robot's sentences into audio/NNNN.wav and people's "
                    "lines into audio/people/line-NNNN.wav, each in its own voice (espeak-ng)")
+    p.add_argument("--hearing", choices=("audio", "fast"), default="audio",
+                   help="audio (default): people's voices are synthesised, carried through "
+                   "the rooms and recognised; fast: audible lines are heard as said, from "
+                   "the acoustics' levels alone (for sweeps; docs/speech.md)")
     p.add_argument("--faults", type=Path,
                    help="YAML of faults to inject (docs/reliability.md): the run reports "
                    "each one and the robot's recovery in metrics.json")
@@ -121,7 +125,7 @@ def run_command(args: argparse.Namespace) -> int:
         options = RunOptions(gui=args.gui, policy_path=args.policy,
                              behaviour_config=args.behaviour, audio=args.audio, faults=faults,
                              memory=memory, adapt=not args.no_adaptation,
-                             profile=args.profile, tablet=tablet)
+                             profile=args.profile, tablet=tablet, hearing=args.hearing)
         metrics = run_scenario(scenario, out, options, progress=not args.no_progress,
                                overwrite=args.overwrite)
     status = status_of(metrics["interrupted_by"])

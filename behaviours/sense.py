@@ -40,6 +40,7 @@ from dialogue.addressee import AddresseeJudge
 from dialogue.feedback import FeedbackClassifier
 from dialogue.persona import Persona
 from dialogue.speech.recognizer import Transcript
+from dialogue.speech.words import spoken_words
 from perception.detector.yolo import Detection
 from robot.geometry import wrap_angle
 from robot.percepts import FeedbackEvent, HeardLine, Sound
@@ -92,11 +93,17 @@ class Sense(ContextBehaviour):
             self.bb.emotion = 0.0
 
     def _listen(self, sound: Sound) -> None:
-        """Recognise ``sound``; act on what was made out of it."""
+        """Recognise ``sound`` (on the fast hearing path its words come with it); act on
+        what was made out of it."""
         recognizer = self.ctx.recognizer
-        if recognizer is None:      # a robot without speech recognition hears nothing
+        if sound.words is not None:
+            words = Transcript(" ".join(spoken_words(sound.words)), 1.0, sound.snr_db or 0.0)
+            unclear = False
+        elif recognizer is None:    # a robot without speech recognition hears nothing
             return
-        words = recognizer.transcribe(sound.audio, sound.rate)
+        else:
+            words = recognizer.transcribe(sound.audio, sound.rate)
+            unclear = not recognizer.understood(words)
         if not words.text:
             self.emit("unheard", line=sound.line, person=sound.person,
                       snr_db=round(words.snr_db, 1))
@@ -107,7 +114,7 @@ class Sense(ContextBehaviour):
         by_name = bool(judged.cue) or self.addressee.names_robot(words.text)
         self._take(HeardLine(sound.line, sound.t, sound.person, words.text, judged.to,
                              voice_bearing(sound, words), words.confidence,
-                             unclear=not recognizer.understood(words), snr_db=words.snr_db,
+                             unclear=unclear, snr_db=words.snr_db,
                              by_name=by_name, ended=self.now))
 
     def _take(self, line: HeardLine) -> None:

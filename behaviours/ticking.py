@@ -1,14 +1,15 @@
 """The tick loop: a py_trees ``BehaviourTree`` that advances the simulation before each tick.
 
 Every tree that runs in a simulated household (``companion run``, the skill harness, the
-benchmarks) is ticked through :class:`SimulationTree`, so the order within one tick is
-written once: the simulation is shown what the robot is doing (people may react to it),
+benchmarks) is ticked through :meth:`SimulationTree.run`, so the loop and the order within
+one tick are written once: the simulation is shown what the robot is doing (people may react to it),
 it steps, its social events go to the context's inbox (Sense reads them), the context's
 clock moves to the simulation's time, then the tree ticks.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 import py_trees
@@ -49,6 +50,22 @@ class SimulationTree(py_trees.trees.BehaviourTree):
         self.sim.show(py_trees.blackboard.Blackboard.storage.get("/action"))
         self.ctx.inbox.extend(self.sim.step())
         self.ctx.clock.t = self.sim.t
+
+    def run(self, steps: int | None = None, seconds: float | None = None,
+            until: Callable[[], bool] = lambda: False,
+            after_tick: Callable[[], None] = lambda: None) -> float:
+        """Tick ``steps`` times, or while fewer than ``seconds`` of simulated time have
+        passed, or both; stop early once ``until()`` holds after a tick. ``after_tick`` runs
+        after every tick (recording, scoring). Returns the simulated seconds it ran."""
+        start, ticks = self.sim.t, 0
+        while ((steps is None or ticks < steps)
+               and (seconds is None or self.sim.t - start < seconds)):
+            self.tick()
+            ticks += 1
+            after_tick()
+            if until():
+                break
+        return self.sim.t - start
 
     def stop(self) -> None:
         """Stop the running behaviours (their ``terminate`` cleans up: base stopped,

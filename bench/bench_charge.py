@@ -188,12 +188,17 @@ def trial(scenario: Scenario, config: BehaviourConfig, rng: np.random.Generator,
         tree.setup()
         wall = time.perf_counter()
         contacts = touched = 0
-        while skill.status in (Status.INVALID, Status.RUNNING):
-            before = sim.robot.base.pose()
-            tree.tick()
+        before = sim.robot.base.pose()
+
+        def score() -> None:
+            nonlocal before, contacts, touched
             close, driven = closeness(sim, before, contact_m)
             touched += close
             contacts += driven
+            before = sim.robot.base.pose()
+
+        tree.run(until=lambda: skill.status not in (Status.INVALID, Status.RUNNING),
+                 after_tick=score)
         wall = time.perf_counter() - wall
         x, y, yaw = sim.robot.base.pose()
         docked = ctx.events.of_kind("docked")

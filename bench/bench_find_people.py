@@ -149,11 +149,15 @@ def run_trial(scenario: Scenario, detector: Detector, facing: FacingEstimator | 
         tree = skill_tree(sim, ctx, skill, "find_people")
         tree.setup()
         greeted = math.inf
-        while sim.t < limit and sim.t < greeted and skill.status != Status.FAILURE:
-            tree.tick()
+
+        def greeting_over() -> bool:
+            nonlocal greeted
             said = [e for e in ctx.events.of_kind("say") if e["behaviour"] == "Greet"]
             if said:
                 greeted = said[0]["t"] + said[0]["duration"]
+            return sim.t >= limit or sim.t >= greeted or skill.status == Status.FAILURE
+
+        tree.run(until=greeting_over)
         found = ctx.events.of_kind("person_found")
         rx, ry, ryaw = sim.robot.base.pose()
         person = sim.world.people_positions()[PERSON]

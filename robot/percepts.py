@@ -19,7 +19,11 @@ class Sound:
     own pose and joints). ``bearing`` (rad, world frame) is where the voice came from as a
     localiser the simulation stands in for placed it, given only with one microphone's
     recording, which cannot place it; from the head's four the robot finds it itself.
-    Whether the words are encouragement is for the robot to make out from them."""
+    Whether the words are encouragement is for the robot to make out from them.
+
+    On a simulator's fast hearing path (``sim/household_sound.py``, docs/speech.md) no audio
+    is made: ``audio`` is empty, ``words`` holds what was said and ``snr_db`` how far it
+    stood over the noise, standing in for a recogniser that makes out every audible line."""
 
     line: int
     t: float
@@ -28,6 +32,8 @@ class Sound:
     audio: np.ndarray
     rate: int
     heading: float
+    words: str | None = None
+    snr_db: float | None = None
 
 
 @dataclass(frozen=True)

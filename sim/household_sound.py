@@ -12,7 +12,7 @@ import logging
 import math
 from collections import OrderedDict
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -30,6 +30,7 @@ from sim.world import World
 log = logging.getLogger(__name__)
 REPEAT_AFTER_S = 1.0     # a person asked to say a line again starts this long after
 KEPT_LINES = 64          # lines remembered for repeating
+Hearing = Literal["audio", "fast"]   # the voices carried and recognised, or only their levels
 CLOSER_M = 1.2           # a person asked to come closer stops this far from the robot
 
 
@@ -43,11 +44,15 @@ def household_acoustics(scenario: Scenario, world: World, robot: Robot) -> Acous
 
 
 class HouseholdSound:
-    """Turns said lines into the robot's recordings, one line at a time."""
+    """Turns said lines into the robot's recordings, one line at a time. With ``hearing``
+    ``"fast"`` no voice is synthesised nor carried: an audible line comes with its words
+    and the signal-to-noise ratio the acoustics give it (:class:`Sound`), for sweeps that
+    need the household's behaviour, not its hearing."""
 
     def __init__(self, scenario: Scenario, world: World, robot: Robot,
-                 voices_dir: Path | None = None) -> None:
+                 voices_dir: Path | None = None, hearing: Hearing = "audio") -> None:
         self.scenario, self.world, self.robot = scenario, world, robot
+        self.hearing = hearing
         self.acoustics = household_acoustics(scenario, world, robot)
         self.microphones = Microphones(robot.cfg.microphones, scenario.seed)
         self.voices_dir = voices_dir
@@ -85,7 +90,13 @@ class HouseholdSound:
                           "text": event.text, "level_db": round(level, 1),
                           "noise_db": round(float(background), 1), "audible": bool(audible),
                           "bearing": round(math.atan2(at[1] - y, at[0] - x), 3)})
-        if not audible or (voice := self._voice(event.text, event.person)) is None:
+        if not audible:
+            return None
+        if self.hearing == "fast":
+            return Sound(line, event.t, event.person, self.microphones.bearing(here, at),
+                         np.zeros(0), RATE, self.robot.camera.heading(), words=event.text,
+                         snr_db=float(level - background))
+        if (voice := self._voice(event.text, event.person)) is None:
             return None
         loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
         heading, array = self.robot.camera.heading(), self.microphones.cfg.array

@@ -12,7 +12,7 @@ import pybullet as p
 from robot.percepts import EmotionEvent, EncourageEvent, SayEvent, SocialEvent, Sound
 from robot.speaker import speech_seconds
 from sim.gaze import TalkGaze
-from sim.household_sound import HouseholdSound
+from sim.household_sound import Hearing, HouseholdSound
 from sim.reactions import Reactions
 from sim.robot import Robot
 from sim.robot_config import load_robot_config
@@ -37,11 +37,14 @@ class Simulation:
     (:meth:`World.show_emotion`), for the camera to see. With ``camera_helper`` a second
     process renders part of each camera frame (:class:`sim.split_render.SplitRenderer`;
     for a run with two cores). With ``voices_dir`` each recording is also written to
-    ``voices_dir/line-NNNN.wav``, NNNN the line's number (:attr:`Sound.line`).
+    ``voices_dir/line-NNNN.wav``, NNNN the line's number (:attr:`Sound.line`). ``hearing``
+    ``"fast"`` skips the voices and hands the robot audible lines' words with their levels
+    (:class:`sim.household_sound.HouseholdSound`).
     """
 
     def __init__(self, scenario: Scenario, gui: bool = False, robot_config: Path | None = None,
-                 camera_helper: bool = False, voices_dir: Path | None = None) -> None:
+                 camera_helper: bool = False, voices_dir: Path | None = None,
+                 hearing: Hearing = "audio") -> None:
         self.scenario = scenario
         self.dt = scenario.step
         self.t = 0.0
@@ -60,7 +63,7 @@ class Simulation:
         self.reactions = Reactions(scenario)
         if voices_dir is not None:
             voices_dir.mkdir(parents=True, exist_ok=True)
-        self.sound = HouseholdSound(scenario, self.world, self.robot, voices_dir)
+        self.sound = HouseholdSound(scenario, self.world, self.robot, voices_dir, hearing)
         if camera_helper:
             try:
                 self.robot.camera.renderer = SplitRenderer(self.client, self.world, scenario,

@@ -4,7 +4,8 @@ The smallest spec is ``{worlds: [worlds/a.yaml], seeds: [0, 1], duration: 60}``.
 ``worlds``, ``seeds``, ``personalities`` and ``policies`` (``null``: the scenario's or the
 shipped one) and an optional ``faults`` file make a grid, every combination once; or
 ``runs:`` lists the entries one by one. ``checks`` are bounds on metrics each run must
-meet (``{rsr: {min: 0.99}}``). Paths are relative to the spec file.
+meet (``{rsr: {min: 0.99}}``). ``hearing: fast`` hears every run's lines from the acoustics'
+levels alone (no voices synthesised or recognised). Paths are relative to the spec file.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import itertools
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Literal
 
 from pydantic import Field, model_validator
 
@@ -63,6 +65,7 @@ class SweepSpec(StrictModel):
     personalities: tuple[Path | None, ...] = (None,)
     policies: tuple[Path | None, ...] = (None,)
     faults: Path | None = None
+    hearing: Literal["audio", "fast"] = "audio"
     runs: tuple[RunEntry, ...] = ()
     train_policy: TrainSweep | None = None
     checks: dict[str, Bounds] = Field(default_factory=dict)
@@ -89,7 +92,8 @@ class Entry:
         """A short hash of the entry: its folder name and the mark of its metrics. Files of
         the project count by their path within it, so a clone elsewhere (another machine,
         another folder) finds its finished runs."""
-        fields = {k: _portable(v) for k, v in asdict(self).items()}  # type: ignore[call-overload]
+        fields = {k: _portable(v) for k, v in asdict(self).items()  # type: ignore[call-overload]
+                  if (k, v) != ("hearing", "audio")}   # the keys of sweeps made before it
         text = json.dumps(fields, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:12]
 
@@ -98,6 +102,8 @@ class Entry:
         parts = [f"{k}={Path(v).stem}" for k, v in (("personality", self.personality),
                                                     ("policy", self.policy),
                                                     ("faults", self.faults)) if v]
+        if getattr(self, "hearing", "audio") != "audio":
+            parts.append(f"hearing={self.hearing}")
         return ", ".join(parts) or "default"
 
 
@@ -111,6 +117,7 @@ class Run(Entry):
     personality: str | None
     policy: str | None
     faults: str | None
+    hearing: str = "audio"
 
     @property
     def name(self) -> str:
@@ -161,7 +168,7 @@ def load_sweep(path: str | Path) -> tuple[SweepSpec, list[Run | TrainRun]]:
     for i, e in enumerate(entries):
         run = Run(_absolute(base, e.world), e.seed, e.duration,  # type: ignore[arg-type]
                   _absolute(base, e.personality), _absolute(base, e.policy),
-                  _absolute(base, e.faults))
+                  _absolute(base, e.faults), spec.hearing)
         for key in ("world", "personality", "policy", "faults"):
             value = getattr(run, key)
             if value is not None and not Path(value).is_file():

@@ -31,7 +31,7 @@ def execute(run: Run, folder: Path, collect: bool, threads: int) -> dict[str, An
                                 personality=Path(run.personality) if run.personality else None)
     faults = load_faults(run.faults) if run.faults else None
     options = RunOptions(faults=faults, policy_path=Path(run.policy) if run.policy else None,
-                         threads=threads)
+                         threads=threads, hearing=run.hearing)  # type: ignore[arg-type]
     metrics = run_scenario(scenario, folder, options, progress=False, overwrite=True,
                            tags={"sweep_key": run.key})
     events = (folder / "events.jsonl").read_text(encoding="utf-8") if collect else None
