@@ -34,6 +34,12 @@ KEYS = {
     "depth": "np.ndarray | None: its depth image (m along the optical axis, float32)",
     "frame_t": "float: when it was taken (simulated s)",
     "detections": "list[Detection] in the latest frame",
+    "faces": "list[(Detection, str | None)]: each confident face box in it and the expression "
+             "it shows (happy, sad; None: neutral or unread)",
+    "facings": "list[Facing | None]: which way the person in each box of `detections` looks "
+               "(the facing model); None for other boxes or without the model",
+    "voices": "list[VoiceHeard]: the voices picked up at this tick, made out or not, with "
+              "where they came from and how far they stood over the noise",
     "heard": "list[HeardLine]: what people said to the robot, not yet answered",
     "feedback": "list[FeedbackEvent]: praise or scolding not yet credited to an action",
     "person": "tuple[str, float] | None: who last spoke to the robot or gave it feedback, "
@@ -73,7 +79,8 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
         "stimuli": stimuli, "drives": drives,
         **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
         "action": None, "relieving": False, "progress": 0, "act_status": None,
-        "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "heard": [],
+        "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "faces": [],
+        "facings": [], "voices": [], "heard": [],
         "feedback": [], "person": None, "must_finish": False, "request": None,
         "listening_to": None, "tracking": 0.0,
         "people_seen": [], "rooms_searched": {},

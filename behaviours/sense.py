@@ -1,10 +1,12 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
 - people's social events (the simulation's inbox): each sound the microphones recorded
-  goes through the speech recogniser (``ctx.recognizer``); whom the words are said to is
-  judged from them (:mod:`dialogue.addressee`: the robot, unless someone else is called by
-  name; a line whose words name no one may still be someone else's, which the chat skill
-  tells from the speaker's facing once it turned to them, :mod:`behaviours.speaker_gaze`);
+  goes through the speech recogniser (``ctx.recognizer``), and is a voice heard this tick
+  (``voices``: where it came from, how loud, whether words were made out); whom the words
+  are said to is judged from them (:mod:`dialogue.addressee`: the robot, unless someone
+  else is called by name; a line whose words name no one may still be someone else's,
+  which the chat skill tells from the speaker's facing once it turned to them,
+  :mod:`behaviours.speaker_gaze`);
   a line for the robot that it made out is queued in ``heard`` (marked ``unclear``
   when the recogniser was unsure, so the chat skill asks for it again) and, like a person
   in front, makes the human-present stimulus: someone talking to the robot is an
@@ -13,8 +15,10 @@
   and praise is also encouragement: it switches the encouragement stimulus on for
   ``encouragement_s``; whoever spoke or gave feedback last is ``person``;
 - an emotion counts only on a face the detector found in the current frame (what the face
-  at the box's centre shows, :meth:`robot.body.Camera.expression_at`); it colours the
-  mood for ``emotion_hold_s`` after it was last seen;
+  at the box's centre shows, :meth:`robot.body.Camera.expression_at`; ``faces``); it
+  colours the mood for ``emotion_hold_s`` after it was last seen;
+- the facing model reads which way the person in each person box looks (``facings``), for
+  the skills that go round to someone's front or tell whom a line was for;
 - head-camera frames (RGB, with the depth image beside them) at the scenario's camera rate
   (or the rate a skill steering by person boxes asks for on ``tracking``; or ``idle_rate``
   once no person has been seen in a frame nor heard for ``idle_after_s``) go through the
@@ -43,7 +47,7 @@ from dialogue.speech.recognizer import Transcript
 from dialogue.speech.words import spoken_words
 from perception.detector.yolo import Detection
 from robot.geometry import wrap_angle
-from robot.percepts import FeedbackEvent, HeardLine, Sound
+from robot.percepts import FeedbackEvent, HeardLine, Sound, VoiceHeard
 
 EMOTION_VALUE = {"happy": 1.0, "sad": -1.0, "neutral": 0.0}
 
@@ -64,7 +68,8 @@ class Sense(ContextBehaviour):
     def __init__(self, ctx: Context, name: str = "Sense") -> None:
         super().__init__(name, ctx, reads=("tracking",),
                          writes=("stimuli", "emotion", "frame", "depth", "frame_t",
-                                 "detections", "heard", "feedback", "person"))
+                                 "detections", "faces", "facings", "voices", "heard",
+                                 "feedback", "person"))
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
@@ -78,6 +83,7 @@ class Sense(ContextBehaviour):
         self.addressee = AddresseeJudge(Persona.default().config.name, self.ctx.household)
 
     def _social(self) -> None:
+        self.bb.voices = []
         for ev in self.ctx.inbox:
             if isinstance(ev, Sound):
                 self._listen(ev)
@@ -104,6 +110,9 @@ class Sense(ContextBehaviour):
         else:
             words = recognizer.transcribe(sound.audio, sound.rate)
             unclear = not recognizer.understood(words)
+        self.bb.voices = [*self.bb.voices, VoiceHeard(
+            sound.line, sound.t, sound.person, voice_bearing(sound, words), words.snr_db,
+            bool(words.text))]
         if not words.text:
             self.emit("unheard", line=sound.line, person=sound.person,
                       snr_db=round(words.snr_db, 1))
@@ -158,6 +167,9 @@ class Sense(ContextBehaviour):
                       else [])
         self.bb.frame, self.bb.depth = frame, depth
         self.bb.frame_t, self.bb.detections = self.now, detections
+        self.bb.facings = [ctx.facing.facing(frame, d.box)
+                           if ctx.facing is not None and d.cls == "person" else None
+                           for d in detections]
         people = people_in_view(ctx, detections)
         if people:
             self._noticed = self.now
@@ -166,12 +178,13 @@ class Sense(ContextBehaviour):
             self._present_until = self.now + cfg.present_hold_s
 
     def _expressions(self, frame: np.ndarray, detections: list[Detection]) -> None:
-        """The emotion on each face found in this frame colours the mood."""
+        """The expression on each face found in this frame (``faces``); an emotion shown
+        colours the mood."""
         height, width = frame.shape[:2]
-        for face in detections:
-            if face.cls != "face" or face.conf < self.ctx.config.perception.min_conf:
-                continue
-            emotion = self.ctx.robot.camera.expression_at(*face.centre, width, height)
+        camera, min_conf = self.ctx.robot.camera, self.ctx.config.perception.min_conf
+        self.bb.faces = [(face, camera.expression_at(*face.centre, width, height))
+                         for face in detections if face.cls == "face" and face.conf >= min_conf]
+        for _, emotion in self.bb.faces:
             if emotion is None:
                 continue
             value = EMOTION_VALUE[emotion]

@@ -19,6 +19,7 @@ from behaviours.blackboard import KEYS
 from behaviours.context import Context
 from mind.personality import ACTIONS
 from perception.detector.yolo import Detection
+from perception.facing.model import Facing
 
 
 class ContextBehaviour(py_trees.behaviour.Behaviour):
@@ -104,6 +105,12 @@ class Relieve(ContextBehaviour):
         # stopped because another action pre-empted this one, the flag is the new action's
         if self.bb.action == self.action:
             self.bb.relieving = False
+
+
+def facing_of(detections: list[Detection], facings: list[Facing | None],
+              box: Detection) -> Facing | None:
+    """The facing Sense read for ``box``, one of ``detections`` (None: none read)."""
+    return next((f for d, f in zip(detections, facings, strict=True) if d is box), None)
 
 
 def people_in_view(ctx: Context, detections: list[Detection]) -> list[Detection]:

@@ -5,30 +5,31 @@ People face whom they talk to. The chat skill turns the robot's head to a voice 
 answers; when the line's words called nobody, it looks at the person boxes of the first
 frame that takes in every bearing within ``bearing_tolerance_deg`` of the voice's (as the
 microphones localised it). One of the people seen there spoke, and the facing model
-(perception/facing) reads which way each looks: when every one of them, confidently,
-looks more than ``away_deg`` away from the robot, the line was for someone else, and the
-robot does not answer it. No one seen near the voice, anyone there looking at the robot,
-or an unsure reading, and the words decide.
+(perception/facing, run by Sense: ``facings``) read which way each looks: when every one
+of them, confidently, looks more than ``away_deg`` away from the robot, the line was for
+someone else, and the robot does not answer it. No one seen near the voice, anyone there
+looking at the robot, or an unsure reading, and the words decide.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
 from behaviours.config import GazeConfig
 from behaviours.person_range import PersonRange
 from perception.detector.yolo import Detection
-from perception.facing.model import FacingEstimator
+from perception.facing.model import Facing
 from robot.geometry import wrap_angle
 
 
 class SpeakerGaze:
     """Reads the speaker's facing in camera frames of the robot ``range`` belongs to."""
 
-    def __init__(self, facing: FacingEstimator, range_: PersonRange, cfg: GazeConfig) -> None:
-        self.facing, self.range, self.cfg = facing, range_, cfg
+    def __init__(self, range_: PersonRange, cfg: GazeConfig) -> None:
+        self.range, self.cfg = range_, cfg
 
     def covers(self, bearing: float, frame: np.ndarray) -> bool:
         """Whether ``frame`` takes in every bearing within the tolerance of ``bearing``
@@ -47,14 +48,14 @@ class SpeakerGaze:
         return [box for box in people
                 if abs(wrap_angle(self._bearing(frame, *box.centre) - bearing)) <= tolerance]
 
-    def looks_away(self, bearing: float, frame: np.ndarray, people: list[Detection]) -> bool:
-        """Whether everyone seen in ``frame`` (with its person boxes ``people``) near the
-        bearing of a voice, at least one, looks away from the robot, confidently: whichever
-        of them spoke did not speak to it."""
-        near = self.near_voice(bearing, frame, people)
-        readings = [self.facing.facing(frame, box.box) for box in near]
+    def looks_away(self, bearing: float, frame: np.ndarray, people: list[Detection],
+                   facing: Callable[[Detection], Facing | None]) -> bool:
+        """Whether everyone seen in ``frame`` (with its person boxes ``people``, whose
+        ``facing`` Sense read) near the bearing of a voice, at least one, looks away from
+        the robot, confidently: whichever of them spoke did not speak to it."""
+        readings = [facing(box) for box in self.near_voice(bearing, frame, people)]
         return bool(readings) and all(
-            seen.confidence >= self.cfg.min_confidence
+            seen is not None and seen.confidence >= self.cfg.min_confidence
             and abs(math.degrees(seen.angle)) > self.cfg.away_deg for seen in readings)
 
     def _bearing(self, frame: np.ndarray, col: float, row: float) -> float:

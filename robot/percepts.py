@@ -1,6 +1,7 @@
 """What reaches the robot's senses from people: the recordings its microphones make of a
-line (:class:`Sound`), the lines it recognised in them (:class:`HeardLine`), and the social
-events a household hands it directly (docs/what_the_robot_is_given.md)."""
+line (:class:`Sound`), the voices it picked up in them (:class:`VoiceHeard`) and the lines
+it recognised (:class:`HeardLine`), and the social events a household hands it directly
+(docs/what_the_robot_is_given.md)."""
 
 from __future__ import annotations
 
@@ -34,6 +35,20 @@ class Sound:
     heading: float
     words: str | None = None
     snr_db: float | None = None
+
+
+@dataclass(frozen=True)
+class VoiceHeard:
+    """A voice the microphones picked up as line ``line`` of ``person``: where it came
+    from (``bearing``, rad, world frame), how far it stood over the noise (``snr_db``) and
+    whether the recogniser made out any words (``made_out``)."""
+
+    line: int
+    t: float
+    person: str
+    bearing: float
+    snr_db: float
+    made_out: bool
 
 
 @dataclass(frozen=True)

@@ -35,3 +35,23 @@ def test_an_emotion_counts_only_while_the_face_is_in_view(tmp_path, robot_yaw, s
     emotions = [e for e in household.ctx.events.events if e["kind"] == "emotion"]
     assert bool(emotions) is seen
     assert all(e["emotion"] == "sad" for e in emotions)
+
+
+def test_sense_puts_faces_and_facings_beside_the_detections(tmp_path):
+    """The percepts of one frame: each confident face with its expression, and a facing
+    for every person box (none for faces), aligned with ``detections``."""
+    import py_trees
+
+    household = build_run(tom_is_sad(0.0), tmp_path)
+    with household.sim:
+        for _ in range(30):
+            household.tree.tick()
+        storage = py_trees.blackboard.Blackboard.storage
+        detections, facings, faces = (storage[f"/{k}"] for k in
+                                      ("detections", "facings", "faces"))
+    assert len(facings) == len(detections)
+    people = [f for d, f in zip(detections, facings, strict=True) if d.cls == "person"]
+    assert people and all(f is not None for f in people)
+    assert all(f is None for d, f in zip(detections, facings, strict=True) if d.cls != "person")
+    assert abs(people[0].angle) < 1.0   # Tom looks at the robot, which faces him
+    assert faces and all(expression == "sad" for _, expression in faces)

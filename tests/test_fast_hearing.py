@@ -6,11 +6,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from test_answering import living_room
+
 from app.run import RunOptions, build_run, run_scenario
 from app.sweep.spec import load_sweep
 from robot.percepts import SayEvent, Sound
 from sim.simulation import Simulation
-from tests.test_answering import living_room
 
 
 def recording(hearing: str, where: tuple[float, float], noise_db: float | None = None
@@ -78,3 +79,17 @@ def test_build_run_passes_the_hearing_to_the_simulation(tmp_path):
                           RunOptions(hearing="fast"))
     with household.sim as sim:
         assert sim.sound.hearing == "fast"
+
+
+def test_sense_reports_each_voice_it_picks_up_with_its_bearing(tmp_path):
+    import py_trees
+
+    household = build_run(living_room([(2.0, "What time is it?")], duration=6.0), tmp_path,
+                          RunOptions(hearing="fast"))
+    voices = []
+    with household.sim:
+        for _ in range(60):
+            household.tree.tick()
+            voices += py_trees.blackboard.Blackboard.storage["/voices"]
+    assert [(v.line, v.person, v.made_out) for v in voices] == [(1, "Tom", True)]
+    assert abs(voices[0].bearing) < 0.5   # Tom stands due east (+x), the stand-in 10 deg off

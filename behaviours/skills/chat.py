@@ -23,7 +23,7 @@ from py_trees.common import Status
 from behaviours.context import Context
 from behaviours.listening import FaceSpeaker, head_error, pending, reply_to
 from behaviours.person_range import PersonRange
-from behaviours.skill import ContextBehaviour, Relieve, people_in_view
+from behaviours.skill import ContextBehaviour, Relieve, facing_of, people_in_view
 from behaviours.speaker_gaze import SpeakerGaze
 from robot.percepts import HeardLine
 
@@ -60,7 +60,7 @@ class Converse(ContextBehaviour):
     been said; otherwise RUNNING."""
 
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
-        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections"),
+        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections", "facings"),
                          writes=("heard", "listening_to", "request"))
         self._busy_until = 0.0
         self._turned_at: float | None = None   # when the robot began turning to the voice
@@ -71,7 +71,7 @@ class Converse(ContextBehaviour):
         if ctx.dialogue is None:
             raise ValueError("the chat skill needs ctx.dialogue (a DialogueManager)")
         if ctx.facing is not None and ctx.detector is not None:
-            self.gaze = SpeakerGaze(ctx.facing, PersonRange(ctx.robot, ctx.config.perception),
+            self.gaze = SpeakerGaze(PersonRange(ctx.robot, ctx.config.perception),
                                     ctx.config.listening.gaze)
 
     def initialise(self) -> None:
@@ -104,8 +104,10 @@ class Converse(ContextBehaviour):
         frame = self.bb.frame
         if (self.bb.frame_t == self.now and frame is not None
                 and self.gaze.covers(line.bearing, frame)):
-            people = people_in_view(self.ctx, self.bb.detections)
-            return not self.gaze.looks_away(line.bearing, frame, people)
+            detections, facings = self.bb.detections, self.bb.facings
+            people = people_in_view(self.ctx, detections)
+            return not self.gaze.looks_away(line.bearing, frame, people,
+                                            lambda box: facing_of(detections, facings, box))
         waited = self.now - self._turned_at >= self.ctx.config.listening.answer_wait_s
         return True if waited else None
 

@@ -26,7 +26,7 @@ from py_trees.common import Access, ParallelPolicy, Status
 from simple_pid import PID
 
 from behaviours.context import Context
-from behaviours.skill import Relieve, Say
+from behaviours.skill import Relieve, Say, facing_of
 from behaviours.skills.box_steering import BoxSteering, Tracking, has_face, make_pid
 from behaviours.skills.detour import Detour
 from behaviours.skills.person_front import PersonFront
@@ -54,6 +54,7 @@ class ApproachPerson(BoxSteering):
         super().__init__(name, ctx, ctx.config.perception.tracking_rate)
         for key in ("people_seen", "rooms_searched"):
             self.bb.register_key(key, access=Access.WRITE)
+        self.bb.register_key("facings", access=Access.READ)
         self.approach: PID | None = None          # set in setup(), with the detour planner
         self.detour: Detour | None = None
         self.search: Search | None = None
@@ -74,7 +75,7 @@ class ApproachPerson(BoxSteering):
         self.approach = make_pid(self.cfg.approach_pid, self.cfg.max_approach_speed)
         self.detour = Detour(self.ctx)   # two occupancy grids of the floor map
         self.search = Search(self.ctx, self.detour)
-        self.front = PersonFront(self.ctx.facing, self.cfg)
+        self.front = PersonFront(self.cfg)
 
     def initialise(self) -> None:
         super().initialise()
@@ -223,7 +224,8 @@ class ApproachPerson(BoxSteering):
         face_clock = min(near_at, self._close_since + cfg.backoff_s)
         waited = max(0.0, self.now - face_clock) if close else 0.0
         x, y, _ = self.ctx.robot.base.pose()
-        reading = self.front.read(self.bb.frame, person, self.locate(person), dist, (x, y))
+        seen = facing_of(self.bb.detections, self.bb.facings, person)
+        reading = self.front.read(seen, self.locate(person), dist, (x, y))
         if (reading is not None and self._faces < cfg.face_frames
                 and self._detours < cfg.max_detours and self._to_front(reading[1], waited)
                 and self._start_detour(person, reading[0], to_front=True)):
