@@ -3,6 +3,8 @@ sense and the homeostasis tick run before it every step, as in the full tree."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import py_trees
 from py_trees.common import Status
 
@@ -24,12 +26,14 @@ def skill_tree(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviou
 
 
 def run_skill(sim: Simulation, ctx: Context, skill: py_trees.behaviour.Behaviour,
-              action: str, max_seconds: float) -> tuple[Status, float]:
+              action: str, max_seconds: float,
+              after_tick: Callable[[], None] = lambda: None) -> tuple[Status, float]:
     """Tick ``skill`` as the running ``action`` until it succeeds or fails or ``max_seconds``
-    of simulated time pass; returns its last status and the simulated seconds used."""
+    of simulated time pass (``after_tick`` runs after every tick); returns its last status
+    and the simulated seconds used."""
     tree = skill_tree(sim, ctx, skill, action)
     tree.setup()
-    used = tree.run(seconds=max_seconds,
+    used = tree.run(seconds=max_seconds, after_tick=after_tick,
                     until=lambda: skill.status in (Status.SUCCESS, Status.FAILURE))
     status = skill.status
     if status == Status.RUNNING:

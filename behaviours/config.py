@@ -104,57 +104,118 @@ class RestConfig(StrictModel):
     posture_timeout_s: PositiveFloat
 
 
-class FindPeopleConfig(StrictModel):
-    """Find-people skill: two PID loops on the detector's person box (docs/find_people.md)."""
+class HeadConfig(StrictModel):
+    """Where find people points the head: up while searching, level at a seated person."""
 
-    greet: str
-    head_pitch: float = Field(ge=-0.7, le=0.6)
-    seated_head_pitch: float = Field(ge=-0.7, le=0.6)
+    pitch: float = Field(ge=-0.7, le=0.6)
+    seated_pitch: float = Field(ge=-0.7, le=0.6)
     seated_distance_m: PositiveFloat
     seated_box_top: float = Field(ge=0, le=1)
+
+
+class FollowConfig(StrictModel):
+    """Which person box find people follows, and the heading loop that centres it."""
+
     heading_pid: PidGains
-    approach_pid: PidGains
-    max_approach_speed: PositiveFloat
-    approach_max_offset: float = Field(gt=0, le=1)
-    escape_speed: PositiveFloat
-    escape_back_s: PositiveFloat
-    escape_side_s: PositiveFloat
-    target_distance_m: PositiveFloat
-    distance_tolerance_m: PositiveFloat
     bottom_margin_px: NonNegativeInt
     keep_conf: float = Field(gt=0, lt=1)
     keep_gap_deg: PositiveFloat
     confirm_frames: PositiveInt
     centre_tolerance: float = Field(gt=0, lt=1)
-    search_turn_speed: PositiveFloat
-    lost_after_s: PositiveFloat
-    face_region: float = Field(gt=0, le=1)
-    face_min_conf: float = Field(gt=0, lt=1)
-    cut_face_region: float = Field(ge=0, le=1)
-    face_frames: PositiveInt
-    face_wait_s: PositiveFloat
-    backoff_s: PositiveFloat
-    orbit_speed: PositiveFloat
-    orbit_s: PositiveFloat
-    ignore_s: PositiveFloat
-    ignore_width_deg: PositiveFloat
-    vanish_strikes: PositiveInt
-    detour_distance_m: PositiveFloat
-    detour_candidates: PositiveInt
-    detour_arc_weight: NonNegativeFloat
-    max_detours: NonNegativeInt
-    facing_min_confidence: float = Field(ge=0, le=1)
-    facing_frames: PositiveInt
-    facing_max_distance_m: PositiveFloat
-    away_deg: float = Field(gt=0, le=180)
-    front_tolerance_deg: float = Field(gt=0, le=180)
-    greet_max_m: PositiveFloat
     max_person_width_m: PositiveFloat
+
+
+class SearchConfig(StrictModel):
+    """The search phase: turning in place, then walking on (behaviours/skills/search.py)."""
+
+    turn_speed: PositiveFloat
+    lost_after_s: PositiveFloat
     look_around_turns: PositiveFloat
     sighting_memory_s: PositiveFloat
     sightings_kept: PositiveInt
     revisit_min_m: PositiveFloat
+
+
+class ApproachConfig(StrictModel):
+    """The approach phase: the distance loop and where it stops."""
+
+    pid: PidGains
+    max_speed: PositiveFloat
+    max_offset: float = Field(gt=0, le=1)
+    target_distance_m: PositiveFloat
+    distance_tolerance_m: PositiveFloat
+    backoff_s: PositiveFloat
+
+
+class EscapeConfig(StrictModel):
+    """Backing up and stepping aside when the base is blocked on the way."""
+
+    speed: PositiveFloat
+    back_s: PositiveFloat
+    side_s: PositiveFloat
+
+
+class FaceConfig(StrictModel):
+    """The wait for the face: which face boxes count, and for how long."""
+
+    region: float = Field(gt=0, le=1)
+    min_conf: float = Field(gt=0, lt=1)
+    cut_region: float = Field(ge=0, le=1)
+    frames: PositiveInt
+    wait_s: PositiveFloat
+
+
+class FrontConfig(StrictModel):
+    """Reading which way the person faces, and when to go round to their front."""
+
+    min_confidence: float = Field(ge=0, le=1)
+    frames: PositiveInt
+    max_distance_m: PositiveFloat
+    away_deg: float = Field(gt=0, le=180)
+    tolerance_deg: float = Field(gt=0, le=180)
+
+
+class DetourConfig(StrictModel):
+    """Detours on the floor map: round furniture, or to the person's front."""
+
+    distance_m: PositiveFloat
+    candidates: PositiveInt
+    arc_weight: NonNegativeFloat
+    max_detours: NonNegativeInt
+    greet_max_m: PositiveFloat
+
+
+class OrbitConfig(StrictModel):
+    """Circling the person when their face does not show."""
+
+    speed: PositiveFloat
+    leg_s: PositiveFloat
+
+
+class GiveUpConfig(StrictModel):
+    """Giving up on a person (or a box that is none) and ignoring where they stand."""
+
+    ignore_s: PositiveFloat
+    ignore_width_deg: PositiveFloat
+    vanish_strikes: PositiveInt
+
+
+class FindPeopleConfig(StrictModel):
+    """Find-people skill: two PID loops on the detector's person box, its settings grouped
+    by the approach's phases (docs/find_people.md)."""
+
+    greet: str
     timeout_s: PositiveFloat
+    head: HeadConfig
+    follow: FollowConfig
+    search: SearchConfig
+    approach: ApproachConfig
+    escape: EscapeConfig
+    face: FaceConfig
+    front: FrontConfig
+    detour: DetourConfig
+    orbit: OrbitConfig
+    give_up: GiveUpConfig
 
 
 class SingDanceConfig(StrictModel):

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 from robot.body import Body
 from robot.navigation import FloorPlan
 from robot.path_follower import PathFollower
-from robot.percepts import SocialEvent, Sound
+from robot.percepts import SocialEvent
 from robot.speaker import Speaker
 
 
@@ -76,7 +76,7 @@ class Context:
                                              # (and "come closer") reaches people
     ask_way: Callable[[], None] = lambda: None   # "could someone clear the way" reaches them
     camera_rate: float = 2.0                 # frames per second while no one is tracked
-    inbox: list[SocialEvent | Sound] = field(default_factory=list)   # not yet sensed
+    inbox: list[SocialEvent] = field(default_factory=list)   # the household's, not yet sensed
     frames_taken: int = 0                    # head-camera frames rendered so far
     snapshot: Callable[[str, np.ndarray], str | None] | None = None  # (tag, frame) -> saved
     steps: StepRecord = field(default_factory=StepRecord)  # the homeostasis steps so far

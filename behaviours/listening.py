@@ -34,8 +34,8 @@ def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardL
 
 def head_error(ctx: Context, bearing: float) -> float:
     """How far (rad) the head points from ``bearing`` (world frame), given the base's yaw
-    and the HeadYaw joint."""
-    yaw = ctx.robot.base.pose()[2] + ctx.robot.joints.positions()["HeadYaw"]
+    and the head's yaw."""
+    yaw = ctx.robot.base.pose()[2] + ctx.robot.head.angles()[0]
     return wrap_angle(bearing - yaw)
 
 
@@ -111,8 +111,8 @@ class FaceSpeaker(ContextBehaviour):
             robot.base.set_velocity(0.0, 0.0, 0.0)
             return Status.RUNNING
         off_base = wrap_angle(bearing - robot.base.pose()[2])
-        lo, hi = robot.joints.limits()["HeadYaw"]
-        robot.joints.move({"HeadYaw": min(max(off_base, lo), hi)}, cfg.head_speed)
+        lo, hi = robot.head.yaw_limits()
+        robot.head.look(yaw=min(max(off_base, lo), hi), speed=cfg.head_speed)
         facing = abs(off_base) <= math.radians(cfg.facing_tolerance_deg)
         turn = 0.0 if facing else math.copysign(min(cfg.turn_speed, cfg.turn_gain
                                                     * abs(off_base)), off_base)

@@ -1,7 +1,8 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
-- people's social events (the simulation's inbox): each sound the microphones recorded
-  goes through the speech recogniser (``ctx.recognizer``), and is a voice heard this tick
+- people's social events (the simulation's inbox) and the robot's microphones and
+  tablet parts: each sound the microphones recorded goes through the speech recogniser
+  (``ctx.recognizer``), and is a voice heard this tick
   (``voices``: where it came from, how loud, whether words were made out); whom the words
   are said to is judged from them (:mod:`dialogue.addressee`: the robot, unless someone
   else is called by name; a line whose words name no one may still be someone else's,
@@ -63,7 +64,8 @@ def voice_bearing(sound: Sound, words: Transcript) -> float:
 
 class Sense(ContextBehaviour):
     """Stimuli, heard lines, emotion and camera detections from the simulation's social
-    events (the context's inbox), the head camera and the motor temperature."""
+    events (the context's inbox), the microphones, the tablet, the head camera and the
+    motor temperature."""
 
     def __init__(self, ctx: Context, name: str = "Sense") -> None:
         super().__init__(name, ctx, reads=("tracking",),
@@ -83,8 +85,11 @@ class Sense(ContextBehaviour):
         self.addressee = AddresseeJudge(Persona.default().config.name, self.ctx.household)
 
     def _social(self) -> None:
+        """The household's social events (the inbox), then the microphones' recordings,
+        then what was typed or pressed on the tablet."""
         self.bb.voices = []
-        for ev in self.ctx.inbox:
+        robot = self.ctx.robot
+        for ev in [*self.ctx.inbox, *robot.microphones.recordings(), *robot.tablet.inputs()]:
             if isinstance(ev, Sound):
                 self._listen(ev)
             elif isinstance(ev, HeardLine):      # typed on the tablet: the words as given

@@ -48,22 +48,30 @@ class ContextBehaviour(py_trees.behaviour.Behaviour):
         self.ctx.events.emit(kind, behaviour=self.name, **fields)
 
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        """py_trees' tick. When the context contains faults (household runs), an exception
-        inside this behaviour fails it with a ``fault`` event instead of ending the run;
-        tests leave it off, so a bug still raises there."""
-        if not self.ctx.contain_faults:
-            yield from super().tick()
-            return
+        """py_trees' tick, its faults contained (:func:`contained_tick`)."""
+        yield from contained_tick(self, self.ctx, super().tick())
+
+
+def contained_tick(node: py_trees.behaviour.Behaviour, ctx: Context,
+                   ticks: Iterator[py_trees.behaviour.Behaviour],
+                   ) -> Iterator[py_trees.behaviour.Behaviour]:
+    """``node``'s py_trees tick (``ticks``). When the context contains faults (household
+    runs), an exception inside it fails ``node`` with a ``fault`` event instead of ending
+    the run; tests leave it off, so a bug still raises there."""
+    if not ctx.contain_faults:
+        yield from ticks
+        return
+    try:
+        yield from ticks
+    except Exception as exc:
+        ctx.events.emit("fault", behaviour=node.name, fault="behaviour_error",
+                        error=f"{type(exc).__name__}: {exc}"[:300],
+                        recovery="this behaviour fails; the tree goes on")
         try:
-            yield from super().tick()
-        except Exception as exc:
-            self.emit("fault", fault="behaviour_error", error=f"{type(exc).__name__}: {exc}"[:300],
-                      recovery="this behaviour fails; the tree goes on")
-            try:
-                self.stop(Status.FAILURE)
-            except Exception:   # its own clean-up failed too: the status still says FAILURE
-                self.status = Status.FAILURE
-            yield self
+            node.stop(Status.FAILURE)
+        except Exception:   # its own clean-up failed too: the status still says FAILURE
+            node.status = Status.FAILURE
+        yield node
 
 
 class Say(ContextBehaviour):

@@ -45,7 +45,7 @@ def main() -> None:
                         help="person boxes at least this tall (px) are scored")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args = parser.parse_args()
-    region = load_behaviour_config().find_people.face_region
+    region = load_behaviour_config().find_people.face.region
     detector = YoloDetector(args.weights, conf=min(THRESHOLDS))
     faced, turned = [], []  # per person: the detections of their frame
     for image in sorted((args.data / "images" / "test").glob("*.png")):

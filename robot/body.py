@@ -2,11 +2,13 @@
 
 In the way qiBullet composes a robot of sensor and controller objects, :class:`Body` is a
 set of parts: the omnidirectional ``base``, the ``joints`` (head, arms and legs, with their
-postures), the forehead ``camera`` (colour with depth), the base's ``lasers``, the
-``battery`` and the motors' ``thermal`` state. The behaviours drive the robot through these
-interfaces alone; ``sim/`` implements each of them on PyBullet, and a real robot would
-implement them on its own drivers. Poses are ``(x, y, yaw)`` on the floor in the map's
-frame (m, m, rad).
+postures and gestures), the ``head``'s gaze, the forehead ``camera`` (colour with depth),
+the base's ``lasers``, the ``battery``, the motors' ``thermal`` state, the head's
+``microphones`` (the lines they recorded) and the chest ``tablet`` (what people typed or
+pressed on it). The behaviours
+drive the robot through these interfaces alone; ``sim/`` implements each of them on
+PyBullet, and a real robot would implement them on its own drivers. Poses are
+``(x, y, yaw)`` on the floor in the map's frame (m, m, rad).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from pydantic import Field, NonNegativeFloat, PositiveFloat
 
 from core.config_files import StrictModel
 from robot.lasers import LasersConfig, Scan
+from robot.percepts import FeedbackEvent, HeardLine, Sound
 
 Pose = tuple[float, float, float]
 
@@ -117,6 +120,29 @@ class Joints(Protocol):
         ...
 
 
+class Head(Protocol):
+    """The head's gaze (``HeadYaw`` left positive, ``HeadPitch`` down positive; rad,
+    relative to the body): robot/head.py implements it on any body's joints."""
+
+    def angles(self) -> tuple[float, float]:
+        """The measured (yaw, pitch)."""
+        ...
+
+    def targets(self) -> tuple[float, float]:
+        """Where the head is heading: (yaw, pitch)."""
+        ...
+
+    def yaw_limits(self) -> tuple[float, float]:
+        """How far the head turns: (right-most, left-most) yaw."""
+        ...
+
+    def look(self, yaw: float | None = None, pitch: float | None = None,
+             speed: float = 1.0) -> None:
+        """Turn towards ``yaw`` and/or ``pitch`` (the other stays) at ``speed`` x the
+        speed limits."""
+        ...
+
+
 class Camera(Protocol):
     """The forehead camera: colour frames with depth beside them, numbered."""
 
@@ -206,12 +232,31 @@ class Thermal(Protocol):
         ...
 
 
+class Microphones(Protocol):
+    """The head's microphones: each line they recorded, once its speaker finished it."""
+
+    def recordings(self) -> list[Sound]:
+        """The recordings finished since the last call, oldest first (each given once)."""
+        ...
+
+
+class Tablet(Protocol):
+    """The chest tablet's touch screen: lines typed on it and thumbs pressed."""
+
+    def inputs(self) -> list[HeardLine | FeedbackEvent]:
+        """What people typed or pressed since the last call, oldest first (each once)."""
+        ...
+
+
 class Body(Protocol):
     """The robot as named parts."""
 
     base: Base
     joints: Joints
+    head: Head
     camera: Camera
     lasers: Lasers
     battery: Battery
     thermal: Thermal
+    microphones: Microphones
+    tablet: Tablet

@@ -1,13 +1,15 @@
 """The simulated Pepper-like robot: a body of named parts on PyBullet.
 
 In the spirit of qiBullet, :class:`Robot` hides PyBullet ids behind parts with names: the
-``base`` (sim/base.py), the ``joints`` and their postures (sim/motors.py), the forehead
+``base`` (sim/base.py), the ``joints`` and their postures (sim/motors.py) with the ``head``'s
+gaze on them (robot/head.py), the forehead
 ``camera`` (sim/head_camera.py), the base's ``lasers`` (sim/lasers.py), the ``battery`` and
-the motors' ``thermal`` state (sim/power.py); each implements its interface in
-robot/body.py. The world owns the physics: it calls :meth:`Robot.step` once per simulation
-step (before ``stepSimulation``) and the robot advances its base, joint ramps, battery and
-motor temperature by ``dt``. Joint limits come from the URDF, every other number from
-``config/robot.yaml``; docs/robot.md describes the models.
+the motors' ``thermal`` state (sim/power.py), the ``microphones`` and the ``tablet``
+(sim/inputs.py); each implements its interface in robot/body.py. The world owns the
+physics: it calls :meth:`Robot.step` once per simulation step (before ``stepSimulation``)
+and the robot advances its base, joint ramps, battery and motor temperature by ``dt``.
+Joint limits come from the URDF, every other number from ``config/robot.yaml``;
+docs/robot.md describes the models.
 """
 
 from __future__ import annotations
@@ -20,9 +22,11 @@ import pybullet as p
 
 from core.paths import URDF_DIR
 from robot.body import Pose
+from robot.head import JointHead
 from robot.joints import JOINT_NAMES
 from sim.base import SimBase, yaw_quaternion
 from sim.head_camera import SimCamera
+from sim.inputs import SimMicrophones, SimTablet
 from sim.lasers import LaserScanners
 from sim.motors import SimJoints
 from sim.power import Battery, MotorHeat
@@ -35,8 +39,9 @@ CAMERA_LINK = "CameraTop_frame"
 class Robot:
     """A Pepper-like robot in one PyBullet world (:class:`robot.body.Body`).
 
-    Attributes: the parts ``base``, ``joints``, ``camera``, ``lasers``, ``battery`` and
-    ``thermal``; ``body_id`` (the PyBullet body), ``client`` and ``cfg`` (the RobotConfig).
+    Attributes: the parts ``base``, ``joints``, ``head``, ``camera``, ``lasers``, ``battery``,
+    ``thermal``, ``microphones`` and ``tablet``; ``body_id`` (the PyBullet body),
+    ``client`` and ``cfg`` (the RobotConfig).
     """
 
     def __init__(self, client: int, pose: Pose = (0.0, 0.0, 0.0),
@@ -56,12 +61,15 @@ class Robot:
             raise ValueError(f"{urdf} lacks the joints {sorted(missing)}")
         self.joints = SimJoints(client, self.body_id, [joints[n] for n in JOINT_NAMES],
                                 self.cfg)
+        self.head = JointHead(self.joints)
         self.base = SimBase(client, self.body_id, self.cfg.base)
         self.battery = Battery(self.cfg.battery)
         self.thermal = MotorHeat(self.cfg.thermal)
         self.camera = SimCamera(client, self.body_id, self._links[CAMERA_LINK],
                                 self.cfg.camera, faces)
         self.lasers = LaserScanners(client, self.body_id, self.cfg.lasers, self.base.pose)
+        self.microphones = SimMicrophones()
+        self.tablet = SimTablet()
 
     def _index_links(self) -> tuple[dict[str, int], dict[str, int]]:
         """Link name -> index and revolute joint name -> index, from the loaded URDF."""

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pybullet as p
 
-from robot.percepts import EmotionEvent, EncourageEvent, SayEvent, SocialEvent, Sound
+from robot.percepts import EmotionEvent, EncourageEvent, SayEvent, SocialEvent
 from robot.speaker import speech_seconds
 from sim.gaze import TalkGaze
 from sim.household_sound import Hearing, HouseholdSound
@@ -30,10 +30,10 @@ class Simulation:
 
     ``step()`` advances the robot's base, joints, battery and motor heat, the physics and the
     people's timeline by one scenario step and returns the social events that fell due. A
-    line a person says (or words of encouragement) comes once they have finished saying it
-    (people talk at the robot's own pace, :func:`robot.speaker.speech_seconds`), as the
-    robot's microphones record it (:class:`robot.percepts.Sound`, none when too faint;
-    :mod:`sim.household_sound`). An emotion a person shows is on their face
+    line a person says (or words of encouragement) reaches the robot's ``microphones`` part
+    once they have finished saying it (people talk at the robot's own pace,
+    :func:`robot.speaker.speech_seconds`), as recorded there (:class:`robot.percepts.Sound`,
+    none when too faint; :mod:`sim.household_sound`). An emotion a person shows is on their face
     (:meth:`World.show_emotion`), for the camera to see. With ``camera_helper`` a second
     process renders part of each camera frame (:class:`sim.split_render.SplitRenderer`;
     for a run with two cores). With ``voices_dir`` each recording is also written to
@@ -79,11 +79,11 @@ class Simulation:
         """Load and validate the scenario at ``path`` and build it."""
         return cls(load_scenario(path), gui=gui)
 
-    def step(self) -> list[SocialEvent | Sound]:
-        """Advance everything by one scenario step; the social events due in it (lines
-        said as recorded)."""
+    def step(self) -> list[SocialEvent]:
+        """Advance everything by one scenario step; the social events due in it. The lines
+        finished in it go to the robot's microphones, as recorded."""
         t_next = (self.steps + 1) * self.dt
-        events: list[SocialEvent | Sound] = []
+        events: list[SocialEvent] = []
         x, y, _ = self.robot.base.pose()
         said = (self.world.advance(self.t, t_next, (x, y))
                 + self.reactions.react(t_next, self.world, (x, y)))
@@ -98,7 +98,9 @@ class Simulation:
                 events.append(e)
         done = [(e, kind) for end, e, kind in self._speaking if end <= t_next + 1e-9]
         self._speaking = [s for s in self._speaking if s[0] > t_next + 1e-9]
-        events += [sound for e, kind in done if (sound := self.sound.record(e, kind))]
+        for e, kind in done:
+            if sound := self.sound.record(e, kind):
+                self.robot.microphones.record(sound)
         self.gaze.release(t_next)
         self.robot.step(self.dt)
         p.stepSimulation(physicsClientId=self.client)

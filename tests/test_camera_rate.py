@@ -63,7 +63,7 @@ def test_an_empty_room_is_looked_at_less_often_until_a_voice_is_heard(tmp_path) 
     with sim:
         while sim.t < 30.0 - 1e-9:
             tree.tick()
-        ctx.inbox.append(HeardLine(1, sim.t, "Anna", "Hello?", "robot", 0.0))
+        ctx.robot.tablet.touch(HeardLine(1, sim.t, "Anna", "Hello?", "robot", 0.0))
         while sim.t < 45.0 - 1e-9:
             tree.tick()
     times = [t for t, _ in log.frames]

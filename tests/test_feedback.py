@@ -165,7 +165,6 @@ def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:
 HEAR_REACTIONS = """
 import json
 from pathlib import Path
-from robot.percepts import Sound
 from sim.simulation import Simulation
 from dialogue.feedback import FeedbackClassifier
 from dialogue.speech.recognizer import SpeechRecognizer
@@ -175,8 +174,9 @@ with Simulation.from_file(Path("worlds") / "dislikes_dancing.yaml") as sim:
     for action, seconds in (("stand_by", 20), ("sing_dance", 20), ("chat", 20)):
         sim.show(action)
         for _ in range(round(seconds / sim.dt)):
+            sim.step()
             heard += [(action, words.value(recognizer.transcribe(e.audio, e.rate).text))
-                      for e in sim.step() if isinstance(e, Sound)]
+                      for e in sim.robot.microphones.recordings()]
 print(json.dumps(heard))
 """
 

@@ -14,7 +14,7 @@ from behaviours.blackboard import seed
 from behaviours.config import load_behaviour_config
 from behaviours.sense import Sense
 from behaviours.skill import people_in_view
-from behaviours.skills import find_people
+from behaviours.skills import approach_phases, find_people
 from behaviours.skills.box_steering import has_face
 from perception.detector.yolo import Detection
 from perception.facing.config import DEFAULT_FACING_MODEL
@@ -60,6 +60,30 @@ def test_finds_greets_and_faces_the_person(detector, short_relief, robot_yaw):
     bearing = math.remainder(math.atan2(person.y - y, person.x - x) - yaw, math.tau)
     assert abs(math.degrees(bearing)) < 5.0
     assert abs(math.hypot(person.x - x, person.y - y) - 1.0) < 0.2
+
+
+def test_the_tree_shows_the_approach_phase(detector, short_relief):
+    # Behind the robot, Tom is out of view: the approach searches (turns in place), then
+    # walks up to him and stays with him; each phase is a leaf the tree's tip shows.
+    person = Start(x=1.8, y=2.2, yaw=10.0, pose="standing")
+    scenario = living_room(Placement(x=4.4, y=2.6, yaw=0.0), person, short_relief)
+    tips: list[str] = []
+
+    def note() -> None:
+        tip = skill.tip()
+        if not isinstance(tip, approach_phases.FreshFrame) and tip.name not in tips[-1:]:
+            tips.append(tip.name)
+
+    with Simulation(scenario) as sim:
+        ctx = make_context(sim, None, detector)
+        skill = find_people.build(ctx)
+        status, _ = run_skill(sim, ctx, skill, "find_people", 45.0, after_tick=note)
+    assert status == Status.SUCCESS
+    approach = next(n for n in skill.iterate() if isinstance(n, find_people.ApproachPerson))
+    assert approach.status == Status.SUCCESS
+    assert tips[0] == "Search"
+    walk = tips.index("Walk up")
+    assert "Keep them centred" in tips[walk:]   # greeting them, with them in view
 
 
 def test_a_sitting_person_is_approached_to_the_target_distance(detector, short_relief):
@@ -166,7 +190,7 @@ def test_a_near_box_that_keeps_vanishing_is_ignored():
         status, _ = run_skill(sim, ctx, find_people.build(ctx), "find_people", 25.0)
     assert status == Status.FAILURE
     given_up = ctx.events.of_kind("no_face")
-    assert [e["vanished"] for e in given_up] == [config.find_people.vanish_strikes]
+    assert [e["vanished"] for e in given_up] == [config.find_people.give_up.vanish_strikes]
     assert given_up[0]["t"] < 15.0
 
 

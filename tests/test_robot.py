@@ -7,6 +7,7 @@ import pybullet as p
 import pytest
 
 from robot.joints import JOINT_NAMES
+from robot.percepts import FeedbackEvent, HeardLine
 from sim.head_camera import decode_segmentation
 from sim.power import MotorHeat
 from sim.robot import URDF_PATH, Robot
@@ -154,6 +155,29 @@ def test_move_joints_respects_speed_and_limits(world):
         robot.joints.move({"LeftEar": 0.1}, speed=0.5)
     with pytest.raises(ValueError, match="speed"):
         robot.joints.move({"HeadYaw": 0.0}, speed=1.5)
+
+
+def test_the_head_looks_where_told_and_leaves_the_other_angle(world):
+    robot = Robot(world)
+    pitch = robot.head.targets()[1]
+    robot.head.look(yaw=0.8, speed=0.5)                  # only the yaw moves
+    assert robot.head.targets() == pytest.approx((0.8, pitch))
+    robot.head.look(pitch=-0.3)
+    run(world, robot, 2.0)
+    assert robot.head.angles() == pytest.approx((0.8, -0.3), abs=0.02)
+    lo, hi = robot.head.yaw_limits()
+    robot.head.look(yaw=hi + 1.0)                        # clamped like any joint
+    assert robot.head.targets()[0] == pytest.approx(hi) and lo < 0.0 < hi
+
+
+def test_microphones_and_tablet_hand_over_each_input_once(world):
+    robot = Robot(world)
+    line = HeardLine(1, 0.0, "Anna", "Hello?", "robot", 0.0)
+    thumb = FeedbackEvent(0.5, "Anna", 1, None)
+    robot.tablet.touch(line)
+    robot.tablet.touch(thumb)
+    assert robot.tablet.inputs() == [line, thumb] and robot.tablet.inputs() == []
+    assert robot.microphones.recordings() == []
 
 
 # ------------------------------------------------------------------------------ base

@@ -80,7 +80,7 @@ def test_a_house_of_one_room_is_searched_on_its_far_side(search):
     finally:
         search.rooms = rooms
     assert why == "elsewhere" and search.room_of(goal) == "lounge"
-    assert math.dist(goal, (5.0, 3.5)) >= search.cfg.revisit_min_m
+    assert math.dist(goal, (5.0, 3.5)) >= search.cfg.search.revisit_min_m
 
 
 def test_a_box_inside_a_wall_is_no_person(search):

@@ -4,12 +4,12 @@ The run loop is single-threaded and owns PyBullet and the tree; the web server r
 another thread. The two meet only here: the server puts requests on a bounded, thread-safe
 queue (:meth:`RunTablet.say`, :meth:`RunTablet.feedback`); the run drains it once per tick
 before its behaviours tick (a pre-tick handler), so that a typed line or a pressed button
-enters as a line the robot heard, with its words as typed (touch needs no recognition; into
-the context's inbox for Sense, from in front of the robot, where the tablet is), and a 👍 / 👎 as a
-scenario's feedback event (the same inbox, the same credit rule). Replies come back through
-the dialogue manager's reply hook into the :class:`~app.tablet.replies.ReplyLog` that the
-server waits on; the live view's snapshots are built after a tick, at most
-``live.snapshot_hz`` times per wall second.
+enters as a line the robot heard, with its words as typed (touch needs no recognition; onto
+the robot's ``tablet`` part for Sense, from in front of the robot, where the tablet is), and
+a 👍 / 👎 as a scenario's feedback event (the same part, the same credit rule). Replies
+come back through the dialogue manager's reply hook into the
+:class:`~app.tablet.replies.ReplyLog` that the server waits on; the live view's snapshots
+are built after a tick, at most ``live.snapshot_hz`` times per wall second.
 """
 
 from __future__ import annotations
@@ -93,8 +93,8 @@ class RunTablet:
     # --- the run loop ---------------------------------------------------------------------
 
     def drain(self, tree: Any = None) -> None:
-        """A pre-tick handler (after the simulation stepped): the waiting requests into the
-        context's inbox, as heard lines and feedback events."""
+        """A pre-tick handler (after the simulation stepped): the waiting requests onto the
+        robot's tablet part, as heard lines and feedback events."""
         while True:
             try:
                 request = self._requests.get_nowait()
@@ -113,12 +113,12 @@ class RunTablet:
         ctx.dialogue.context.mode = request.mode
         self._mode_line = clean_input(request.text) if request.mode != "auto" else None
         ctx.events.emit("tablet_line", line=line.line, text=request.text, mode=request.mode)
-        ctx.inbox.append(line)
+        ctx.robot.tablet.touch(line)
 
     def _feedback(self, value: int) -> None:
         sim, ctx = self.run.sim, self.run.ctx
         ctx.events.emit("tablet_feedback", value=value)
-        ctx.inbox.append(FeedbackEvent(sim.t, self.config.person, value, None))
+        ctx.robot.tablet.touch(FeedbackEvent(sim.t, self.config.person, value, None))
 
     def _replied(self, record: dict[str, Any]) -> None:
         """Once the tablet line chosen in a mode is answered, the robot routes by itself

@@ -1,12 +1,12 @@
-"""Steering by the detector's person boxes, shared by the find-people leaves: the followed
-person's track, the heading PID, fresh-frame bookkeeping, the face test, and the decorator
-that points the head for them (docs/find_people.md). Each leaf asks Sense for camera frames
-at its own rate (blackboard ``tracking``)."""
+"""Steering by the detector's person boxes, shared by find people's approach and its
+keeping them centred: the followed person's track, the heading PID, fresh-frame
+bookkeeping, the face test, and the decorator that points the head for them
+(docs/find_people.md). Each owner asks Sense for camera frames at its own rate (blackboard
+``tracking``)."""
 
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import py_trees
 from py_trees.common import Status
@@ -15,7 +15,6 @@ from simple_pid import PID
 from behaviours.config import FindPeopleConfig, PidGains
 from behaviours.context import Context
 from behaviours.person_range import PersonRange
-from behaviours.skill import ContextBehaviour
 from perception.detector.yolo import Detection
 
 HOLD_PERIODS = 1.5  # by default, without a fresh frame for this many camera periods the base stops
@@ -44,16 +43,20 @@ def has_face(person: Detection, detections: list[Detection], region: float,
     return False
 
 
-class BoxSteering(ContextBehaviour):
-    """Base of the leaves that steer by a person box: fresh-frame bookkeeping, the choice
-    of the person to follow and the heading PID (turn rate from the box offset). While it
-    runs, the camera takes ``rate`` frames a second; a command lasts ``hold_s`` (default
-    1.5 frame periods) unless a fresh frame replaces it."""
+STEERING_READS = ("frame", "depth", "frame_t", "detections")   # a steering owner reads these
+STEERING_WRITES = ("tracking",)                                 # ... and asks Sense for frames
 
-    def __init__(self, name: str, ctx: Context, rate: float,
+
+class Steering:
+    """Steering by a person box for the behaviour that owns it (its blackboard client reads
+    ``STEERING_READS`` and writes ``STEERING_WRITES``): fresh-frame bookkeeping, the choice
+    of the person to follow and the heading PID (turn rate from the box offset). While the
+    owner runs, the camera takes ``rate`` frames a second; a command lasts ``hold_s``
+    (default 1.5 frame periods) unless a fresh frame replaces it."""
+
+    def __init__(self, ctx: Context, bb: py_trees.blackboard.Client, rate: float,
                  hold_s: float | None = None) -> None:
-        super().__init__(name, ctx, reads=("frame", "depth", "frame_t", "detections"),
-                         writes=("tracking",))
+        self.ctx, self.bb = ctx, bb
         self.rate = rate
         self.cfg: FindPeopleConfig = ctx.config.find_people
         self.period = 1.0 / rate
@@ -63,15 +66,23 @@ class BoxSteering(ContextBehaviour):
         self.tan_half_hfov = 0.0
         self._frame_t = -math.inf
         self._command_t = -math.inf
-        self._track: float | None = None   # world direction of the followed person (rad)
+        self.track: float | None = None    # world direction of the followed person (rad)
         self.hits = 0                       # frames in which the track was seen
 
-    def setup(self, **kwargs: Any) -> None:
-        self.heading = make_pid(self.cfg.heading_pid, self.ctx.robot.base.cfg.max_angular_speed)
+    @property
+    def now(self) -> float:
+        """Simulated time (s)."""
+        return self.ctx.now
+
+    def setup(self) -> None:
+        """The heading PID and the person range (the owner's ``setup()``)."""
+        self.heading = make_pid(self.cfg.follow.heading_pid,
+                                self.ctx.robot.base.cfg.max_angular_speed)
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
         self.tan_half_hfov = 4 / 3 * self.range.tan_half_vfov
 
-    def initialise(self) -> None:
+    def reset(self) -> None:
+        """Start afresh (the owner's ``initialise()``): frames at ``rate``, no track."""
         self.bb.tracking = self.rate
         self.heading.reset()
         self._frame_t = -math.inf
@@ -141,7 +152,7 @@ class BoxSteering(ContextBehaviour):
         track (rad)`` wins."""
         cfg = self.cfg
         yaw = self.ctx.robot.base.pose()[2]
-        bottom = self.bb.frame.shape[0] - cfg.bottom_margin_px
+        bottom = self.bb.frame.shape[0] - cfg.follow.bottom_margin_px
 
         def direction(d: Detection) -> float:
             return yaw + self.bearing(d)
@@ -150,36 +161,33 @@ class BoxSteering(ContextBehaviour):
             return math.inf if to is None else abs(math.remainder(direction(d) - to, math.tau))
 
         def score(d: Detection) -> float:
-            return d.conf - (0.0 if self._track is None else gap(d, self._track))
+            return d.conf - (0.0 if self.track is None else gap(d, self.track))
 
-        keep = math.radians(cfg.keep_gap_deg)
+        keep = math.radians(cfg.follow.keep_gap_deg)
         boxes = [d for d in detections
                  if d.cls == "person" and d.box[3] >= bottom
                  and (d.conf >= self.ctx.config.perception.min_conf
-                      or (d.conf >= cfg.keep_conf and gap(d, self._track) <= keep))
-                 and all(gap(d, h) > math.radians(cfg.ignore_width_deg) for h in ignored)
+                      or (d.conf >= cfg.follow.keep_conf and gap(d, self.track) <= keep))
+                 and all(gap(d, h) > math.radians(cfg.give_up.ignore_width_deg) for h in ignored)
                  and self.range.plausible(self.bb.depth, d, self.distance(d))]
         best = max(boxes, key=score, default=None)
         if best is not None:
-            self.hits = self.hits + 1 if gap(best, self._track) <= keep else 1
-            self._track = direction(best)
+            self.hits = self.hits + 1 if gap(best, self.track) <= keep else 1
+            self.track = direction(best)
         return best
 
     def look_towards(self, direction: float) -> None:
         """Expect the followed person in world ``direction`` (rad): a box found there next
         continues the track and is acted on at once."""
-        self._track, self.hits = direction, self.cfg.confirm_frames - 1
+        self.track, self.hits = direction, self.cfg.follow.confirm_frames - 1
 
     def forget(self) -> None:
         """Drop the track: the next box found starts a new one."""
-        self._track, self.hits = None, 0
-
-    def terminate(self, new_status: Status) -> None:
-        self.ctx.robot.base.stop()
+        self.track, self.hits = None, 0
 
 
 class Tracking(py_trees.decorators.PassThrough):
-    """While the child runs: head straight and pitched up to ``head_pitch``. On exit: the
+    """While the child runs: head straight and pitched up to ``head.pitch``. On exit: the
     camera back at the scenario's rate (blackboard ``tracking`` 0), base stopped, head back
     where it was."""
 
@@ -189,17 +197,15 @@ class Tracking(py_trees.decorators.PassThrough):
         self.ctx = ctx
         self.bb = self.attach_blackboard_client(name=name)
         self.bb.register_key("tracking", access=py_trees.common.Access.WRITE)
-        self._head: dict[str, float] = {}
+        self._head: tuple[float, float] | None = None   # (yaw, pitch) to go back to
 
     def initialise(self) -> None:
-        targets = self.ctx.robot.joints.targets()
-        self._head = {j: targets[j] for j in ("HeadYaw", "HeadPitch")}
-        self.ctx.robot.joints.move(
-            {"HeadYaw": 0.0, "HeadPitch": self.ctx.config.find_people.head_pitch}, 1.0)
+        self._head = self.ctx.robot.head.targets()
+        self.ctx.robot.head.look(0.0, self.ctx.config.find_people.head.pitch)
 
     def terminate(self, new_status: Status) -> None:
         self.bb.tracking = 0.0
         self.ctx.robot.base.stop()
-        if self._head:
-            self.ctx.robot.joints.move(self._head, 1.0)
-            self._head = {}
+        if self._head is not None:
+            self.ctx.robot.head.look(*self._head)
+            self._head = None

@@ -147,7 +147,7 @@ class LookAhead(ContextBehaviour):
 
     def terminate(self, new_status: Status) -> None:
         self.bb.listening_to = None
-        self.ctx.robot.joints.move({"HeadYaw": 0.0}, self.ctx.config.listening.head_speed)
+        self.ctx.robot.head.look(yaw=0.0, speed=self.ctx.config.listening.head_speed)
 
 
 def build(ctx: Context) -> py_trees.behaviour.Behaviour:

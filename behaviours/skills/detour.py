@@ -2,7 +2,7 @@
 follows, or the person turned away from the robot, drive around on the household's floor
 map (docs/find_people.md).
 
-The person's floor position is estimated from their box (:meth:`BoxSteering.locate`). The
+The person's floor position is estimated from their box (:meth:`Steering.locate`). The
 robot plans on the static occupancy grid of walls and furniture (the map knows no people) to
 a free spot ``detour_distance_m`` from that estimate with a line of sight to it (or
 ``greet_max_m`` away where a table leaves no nearer room), the one cheapest to reach (path
@@ -56,7 +56,7 @@ class Detour:
     def obstructed(self, robot: Point, person: Point) -> bool:
         """Whether the map has an obstacle on the straight way from ``robot`` to the spot
         ``detour_distance_m`` short of ``person``."""
-        gap = math.dist(robot, person) - self.cfg.detour_distance_m
+        gap = math.dist(robot, person) - self.cfg.detour.distance_m
         if gap <= 0.0:
             return False
         f = gap / math.dist(robot, person)
@@ -67,12 +67,12 @@ class Detour:
         """Free spots around ``person`` that have a line of sight to them on the map, with
         their distance: ``detour_distance_m`` away, and ``greet_max_m`` away on the sides
         where nothing nearer is free (across a table)."""
-        grid, n = self.planner.grid, self.cfg.detour_candidates
+        grid, n = self.planner.grid, self.cfg.detour.candidates
         out = []
         for k in range(n):
             c, s = math.cos(math.tau * k / n), math.sin(math.tau * k / n)
             near = (person[0] + LOOK_SHORT_M * c, person[1] + LOOK_SHORT_M * s)
-            for r in (self.cfg.detour_distance_m, self.cfg.greet_max_m):
+            for r in (self.cfg.detour.distance_m, self.cfg.detour.greet_max_m):
                 spot = (person[0] + r * c, person[1] + r * s)
                 if grid.is_free(*spot) and self.sight.visible(spot, near):
                     out.append((spot, r))
@@ -83,7 +83,7 @@ class Detour:
         """Whether the map has room for the robot ``detour_distance_m`` from ``person`` on
         its side of them: within ``NEAR_ARC_DEG`` of the line towards it (not, when a table
         stands between them)."""
-        r = self.cfg.detour_distance_m
+        r = self.cfg.detour.distance_m
         if math.dist(robot, person) <= r:
             return True
         side = math.atan2(robot[1] - person[1], robot[0] - person[0])
@@ -100,8 +100,8 @@ class Detour:
         that way."""
         spots = self.spots(person)
         side = math.atan2(robot[1] - person[1], robot[0] - person[0]) if front is None else front
-        costs = [self.cfg.detour_arc_weight * self.cfg.detour_distance_m * abs(wrap_angle(
-            math.atan2(y - person[1], x - person[0]) - side)) + (r - self.cfg.detour_distance_m)
+        costs = [self.cfg.detour.arc_weight * self.cfg.detour.distance_m * abs(wrap_angle(
+            math.atan2(y - person[1], x - person[0]) - side)) + (r - self.cfg.detour.distance_m)
             for (x, y), r in spots]
         goal = self.planner.nearest_goal(robot, [spot for spot, _ in spots], costs)
         path = None if goal is None else self._plan(robot, goal, person)

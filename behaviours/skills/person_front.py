@@ -37,14 +37,14 @@ class PersonFront:
         away from the robot at ``robot``); their front and how far (rad) it is from looking
         at the robot, once ``facing_frames`` confident readings are in; else None."""
         cfg = self.cfg
-        if seen is None or dist is None or spot is None or dist > cfg.facing_max_distance_m:
+        if seen is None or dist is None or spot is None or dist > cfg.front.max_distance_m:
             return None
         to_robot = math.atan2(robot[1] - spot[1], robot[0] - spot[0])
-        if seen.confidence >= cfg.facing_min_confidence:
+        if seen.confidence >= cfg.front.min_confidence:
             world = to_robot + seen.angle
             self._sum = (self._sum[0] + math.cos(world), self._sum[1] + math.sin(world))
             self._frames += 1
         front = self.guess()
-        if front is None or self._frames < cfg.facing_frames:
+        if front is None or self._frames < cfg.front.frames:
             return None
         return front, abs(math.remainder(front - to_robot, math.tau))

@@ -61,14 +61,14 @@ class Search:
         """Count a turn of ``wz`` (rad/s) for ``dt`` s; whether the robot has now looked
         all the way round."""
         self.turned += abs(wz) * dt
-        return self.turned >= math.tau * self.cfg.look_around_turns
+        return self.turned >= math.tau * self.cfg.search.look_around_turns
 
     def go_on(self, robot: Point, now: float, seen: list[Sighting],
               searched: dict[str, float], ignored: list[Point]) -> tuple[str, Point] | None:
         """Start walking to where to search next (see the module docstring): the reason
         ("last seen", "room", "elsewhere") and the goal, or None when no way is planned."""
         self.turned = 0.0
-        cfg = self.cfg
+        cfg = self.cfg.search
         for x, y, t in sorted(seen, key=lambda s: -s[2]):
             if (now - t <= cfg.sighting_memory_s and math.dist(robot, (x, y)) >= cfg.revisit_min_m
                     and all(math.dist((x, y), i) >= SAME_PERSON_M for i in ignored)
@@ -96,7 +96,7 @@ class Search:
         spots = [(x0 + 0.5 + i, y0 + 0.5 + j) for i in range(int(x1 - x0))
                  for j in range(int(y1 - y0))]
         spots = [s for s in spots if grid.is_free(*s)
-                 and math.dist(robot, s) >= self.cfg.revisit_min_m]
+                 and math.dist(robot, s) >= self.cfg.search.revisit_min_m]
         return max(spots, key=lambda s: math.dist(robot, s), default=None)
 
 

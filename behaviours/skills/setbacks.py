@@ -33,17 +33,17 @@ class Escape:
         reported being ``blocked`` while driving forwards. A blocked sidestep starts a new
         escape to the other side."""
         cfg = self.cfg
-        sidestep_from = self.start + cfg.escape_back_s
-        if now >= sidestep_from + cfg.escape_side_s:
+        sidestep_from = self.start + cfg.escape.back_s
+        if now >= sidestep_from + cfg.escape.side_s:
             if not (blocked and vx > 0):
                 return vx, 0.0, wz
             self.start = now
         elif blocked and now > sidestep_from:
             self.side = -self.side
             self.start = now
-        if now < self.start + cfg.escape_back_s:
-            return -cfg.escape_speed, 0.0, 0.0
-        return 0.0, self.side * cfg.escape_speed, 0.0
+        if now < self.start + cfg.escape.back_s:
+            return -cfg.escape.speed, 0.0, 0.0
+        return 0.0, self.side * cfg.escape.speed, 0.0
 
 
 class Ignored:
@@ -65,7 +65,7 @@ class Ignored:
 
     def add(self, spot: tuple[float, float], now: float) -> None:
         """Ignore ``spot`` from ``now`` for ``ignore_s``."""
-        self.until[spot] = now + self.cfg.ignore_s
+        self.until[spot] = now + self.cfg.give_up.ignore_s
 
     def spots(self) -> list[tuple[float, float]]:
         """The spots ignored now."""
@@ -79,11 +79,11 @@ class Ignored:
         """Count a near box lost at world ``heading`` (one within ``ignore_width_deg`` of an
         earlier one counts with it); the count once it reaches ``vanish_strikes`` (and
         forgotten then), else None."""
-        width = math.radians(self.cfg.ignore_width_deg)
+        width = math.radians(self.cfg.give_up.ignore_width_deg)
         key = next((h for h in self.vanished
                     if abs(math.remainder(h - heading, math.tau)) <= width), heading)
         count = self.vanished.pop(key, 0) + 1
-        if count < self.cfg.vanish_strikes:
+        if count < self.cfg.give_up.vanish_strikes:
             self.vanished[heading] = count
             return None
         return count

@@ -32,7 +32,7 @@ class HeadSway(ContextBehaviour):
 
     def update(self) -> Status:
         phase = 2.0 * math.pi * (self.now - self._start) / self.period_s
-        self.ctx.robot.joints.move({"HeadYaw": self.amplitude * math.sin(phase)}, SWAY_SPEED)
+        self.ctx.robot.head.look(yaw=self.amplitude * math.sin(phase), speed=SWAY_SPEED)
         return Status.RUNNING
 
 
