@@ -7,11 +7,12 @@ OUT    ?= runs/demo
 WORLD  ?= worlds/living_room.yaml
 WORDNET := /usr/share/wordnet/data.noun
 SPHINXTRAIN := /usr/lib/sphinxtrain/map_adapt
+FESTIVAL := /usr/share/festival/voices/us/cmu_us_slt_arctic_hts
 SUDO   := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: setup browser demo test lint bench snapshots clean
 
-setup: $(STAMP) $(WORDNET) $(SPHINXTRAIN) browser
+setup: $(STAMP) $(WORDNET) $(SPHINXTRAIN) $(FESTIVAL) browser
 
 # WordNet 3.0 (Debian's wordnet-base) answers the robot's everyday questions, read in place.
 $(WORDNET):
@@ -25,6 +26,13 @@ $(SPHINXTRAIN):
 	$(SUDO) apt-get update -qq
 	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends \
 	  sphinxtrain sphinxbase-utils pocketsphinx
+
+# The held-out voices of `companion eval asr --voices held-out` (robot/voices/debian.py):
+# CMU Flite with its built-in voices, and Festival with two voice packages.
+$(FESTIVAL):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends \
+	  flite festival festvox-kallpc16k festvox-us-slt-hts
 
 # The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
 # its driver: Debian's chromium and chromium-driver (and a colour emoji font for the pages'

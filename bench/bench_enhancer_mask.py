@@ -14,7 +14,7 @@ With ``--lines requests`` the lines are the 90 spoken requests of
 ``dialogue/data/speech_dev.tsv`` instead, written like what people ask the robot (time,
 weather, songs, chit-chat) and, like the questions, learnt by no model and never said by
 ``companion eval asr``. With ``--unseen-voices`` the lines are said by the four visitors'
-voices of ``companion eval asr --unseen-voices`` instead, quiet and with the TV on at 1 m.
+voices of ``companion eval asr --voices visitors`` instead, quiet and with the TV on at 1 m.
 
 Usage: python bench/bench_enhancer_mask.py [--limit N] [--powers P ...] [--config SPEECH_YAML]
        [--lines questions|requests] [--unseen-voices] [--microphones one|array]
@@ -34,7 +34,7 @@ from dialogue.intent import IntentClassifier
 from dialogue.speech.config import load_speech_config
 from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.corpus import tuning_lines
-from dialogue.speech.training.evaluate import ROOM_M, UNSEEN_VOICES, VOICES, heads_microphones
+from dialogue.speech.training.evaluate import ROOM_M, VISITOR_VOICES, VOICES, heads_microphones
 from dialogue.speech.training.rooms import living_room, recording, speaker_at
 from dialogue.speech.words import spoken_words
 from robot.audio import RATE
@@ -73,7 +73,7 @@ def main() -> None:
     cfg = cfg.model_copy(update={"model": cfg.model.model_copy(update={"loud_room_db": None})})
     router, recogniser = IntentClassifier.default(), SpeechRecognizer(cfg)
     routes = [router.classify(t).label for t in texts]
-    speakers = UNSEEN_VOICES if args.unseen_voices else PEOPLE_VOICES[:VOICES]
+    speakers = VISITOR_VOICES if args.unseen_voices else PEOPLE_VOICES[:VOICES]
     voices = [synthesise(t, speakers[i % len(speakers)]) for i, t in enumerate(texts)]
     recordings = {}
     for noise, distance in VISITOR_CONDITIONS if args.unseen_voices else CONDITIONS:

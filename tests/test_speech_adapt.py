@@ -12,8 +12,9 @@ import pytest
 from pocketsphinx import get_model_path
 from test_speech_recognition import recorded
 
-from dialogue.speech.config import SpeechConfig, load_speech_config
-from dialogue.speech.recognizer import ACOUSTIC_FILES, SpeechModelError, SpeechRecognizer
+from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
+from dialogue.speech.engines import ACOUSTIC_FILES
+from dialogue.speech.recognizer import SpeechRecognizer
 from dialogue.speech.training.acoustic import (
     adapt_acoustic_model,
     adaptation_beam,

@@ -10,9 +10,9 @@ import torch
 
 from app.cli import main
 from core.paths import MODELS_DIR
-from dialogue.speech.config import load_speech_config
+from dialogue.speech.config import SpeechModelError, load_speech_config
 from dialogue.speech.enhancer import VoiceEnhancer
-from dialogue.speech.recognizer import SpeechModelError, SpeechRecognizer, noise_floor
+from dialogue.speech.recognizer import SpeechRecognizer, noise_floor
 from dialogue.speech.training.enhancer import train_enhancer
 from dialogue.speech.training.rooms import ROBOT_HEADING, living_room
 from dialogue.speech.words import spoken_words

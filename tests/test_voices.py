@@ -118,3 +118,25 @@ def test_a_line_sounds_the_same_whatever_was_said_before_it() -> None:
     for voice in PEOPLE_VOICES:
         synthesise("Can you sing Happy Birthday for me?", voice)
     assert np.array_equal(synthesise(line, PEOPLE_VOICES[3])[0], first)
+
+
+@pytest.mark.parametrize("voice", [Voice(engine="piper", name="joe"),
+                                   Voice(engine="flite", name="slt"),
+                                   Voice(engine="festival", name="kal_diphone")],
+                         ids=lambda v: v.label)
+def test_the_other_engines_speak_the_same_line_the_same_way_at_their_pace(voice) -> None:
+    """Piper (its noise terms off), Flite and Festival: a line is the same samples each
+    time, and a slower speed makes it longer."""
+    line = "Is it morning or night in Melbourne right now?"
+    first, rate = synthesise(line, voice)
+    assert np.array_equal(synthesise(line, voice)[0], first)
+    assert 1.5 < len(first) / rate < 6.0
+    slow, _ = synthesise(line, voice.model_copy(update={"speed": 100}))
+    assert len(slow) > 1.2 * len(first)
+
+
+def test_a_voice_an_engine_lacks_or_espeak_settings_elsewhere_are_refused_by_name() -> None:
+    with pytest.raises(ValueError, match="flite has no voice 'bob'"):
+        Voice(engine="flite", name="bob")
+    with pytest.raises(ValueError, match="variant and pitch are espeak-ng's"):
+        Voice(engine="piper", name="joe", pitch=70)

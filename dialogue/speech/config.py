@@ -4,7 +4,7 @@ how the household language model is estimated."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Self
+from typing import Literal, Self
 
 from pydantic import Field, model_validator
 
@@ -33,14 +33,30 @@ class DereverberationConfig(StrictModel):
     iterations: int = Field(ge=1, le=10)
 
 
-class SpeechModelConfig(StrictModel):
-    """The model files the recogniser loads and pocketsphinx's language weight."""
+class WhisperConfig(StrictModel):
+    """faster-whisper's settings (dialogue/speech/engines.py): how its weights are held,
+    how wide its search is, how many cores it uses, and when its transcript is sure enough
+    to act on."""
 
+    compute_type: Literal["int8", "int8_float32", "float32"]
+    beam_size: int = Field(ge=1, le=10)
+    threads: int = Field(ge=1, le=16)
+    min_confidence: float = Field(ge=0, le=1)
+
+
+class SpeechModelConfig(StrictModel):
+    """Which decoder the recogniser runs (``engine``), the model files pocketsphinx loads
+    and its language weight, faster-whisper's settings, and the household front end
+    (dereverberation, beam, enhancer) either decodes through."""
+
+    engine: Literal["whisper", "pocketsphinx"]
+    whisper: WhisperConfig
     language_model: Path
     dictionary: Path
     acoustic_model: Path | None   # None: the wheel's own en-US model, as it ships
     enhancer: Path | None         # None: the recordings are decoded as they are
     mask_power: float = Field(ge=1, le=16)
+    mask_output: bool             # the enhancer's mask also cleans the channel decoded
     loud_room_db: float | None = Field(ge=0, le=100)   # None: the power everywhere
     language_weight: float = Field(gt=0, le=50)
     beamformer: bool              # decode the head's microphones through the MVDR beam

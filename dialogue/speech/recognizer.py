@@ -1,14 +1,14 @@
-"""The robot's speech recogniser: pocketsphinx on 16 kHz audio from its microphones.
+"""The robot's speech recogniser: one of two decoders (dialogue/speech/engines.py) on
+16 kHz audio from its microphones, behind one interface.
 
-The acoustic model is the en-US one inside the pocketsphinx wheel, adapted by this project
-to the household's voices and rooms; the language model is the household one this project
-estimates from its own lines (both made by dialogue/speech/training/, in
-``assets/models/speech/``), with the wheel's pronunciation dictionary cut down to its
-words. Each sound is decoded as one utterance with the cepstral mean taken over the whole
-of it. A :class:`Transcript` carries the words, a confidence (the hypothesis's
-posterior probability per word, a geometric mean, so that long and short lines compare) and
-the speech's loudness over the noise, estimated from the signal alone. A sound whose speech
-is too faint (a voice from another room, or lost in the TV) gives no words.
+The shipped decoder is pocketsphinx with the household's adapted acoustic model and
+language model; faster-whisper with Whisper tiny.en from a wheel is the other
+(``model.engine``; docs/speech.md compares them). Before either, the head's four
+microphones may pass the household front end (dereverberation, the beam, the voice
+enhancer; ``model``). A :class:`Transcript` carries
+the words, a confidence (the decoder's, per word or per token, so that long and short lines
+compare) and the speech's loudness over the noise, estimated from the signal alone. A sound
+whose speech is too faint (a voice from another room, or lost in the TV) gives no words.
 """
 
 from __future__ import annotations
@@ -16,28 +16,16 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from dialogue.speech.beamformer import Steering, front_end, voice_direction
-from dialogue.speech.config import SpeechConfig, SpeechModelError, load_speech_config
+from dialogue.speech.config import SpeechConfig, load_speech_config
+from dialogue.speech.engines import make_engine
 from robot.audio import RATE, REFERENCE_DB, resampled
 
 FRAME = 320              # samples (20 ms) per frame of the loudness estimate
 QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as speech
-ACOUSTIC_FILES = ("mdef", "means", "variances", "transition_matrices", "sendump", "feat.params",
-                  "noisedict")
-
-
-def wheel_model_dir() -> Path:
-    """The folder of pocketsphinx's own en-US model files inside its wheel: the acoustic
-    model in ``en-us/`` and the pronunciation dictionary ``cmudict-en-us.dict``."""
-    from pocketsphinx import get_model_path
-
-    return Path(get_model_path()) / "en-us"
-
-
 @dataclass(frozen=True)
 class Transcript:
     """What the recogniser made of a sound: ``text`` (lower case, may be empty),
@@ -86,29 +74,17 @@ def noise_floor(samples: np.ndarray) -> float:
 
 
 class SpeechRecognizer:
-    """pocketsphinx with the household language model; ``transcribe`` one sound at a time.
-    ``microphones``: the head's microphones' positions (``(M, 2)``, m in the head's frame),
-    for finding where a voice came from in their recordings; None: not looked for."""
+    """The configured decoder (``model.engine``) behind the household front end;
+    ``transcribe`` one sound at a time. ``microphones``: the head's microphones' positions
+    (``(M, 2)``, m in the head's frame), for finding where a voice came from in their
+    recordings; None: not looked for."""
 
     def __init__(self, cfg: SpeechConfig | None = None,
                  microphones: Sequence[Sequence[float]] | None = None) -> None:
-        from pocketsphinx import Config, Decoder
-
         self.cfg = cfg or load_speech_config()
         self.microphones = None if microphones is None else np.asarray(microphones, float)
         m = self.cfg.model
-        lm, words = m.path(m.language_model), m.path(m.dictionary)
-        hmm = (wheel_model_dir() / "en-us" if m.acoustic_model is None
-               else m.path(m.acoustic_model))
-        for path in (lm, words, *(hmm / name for name in ACOUSTIC_FILES)):
-            if not path.is_file():
-                raise SpeechModelError(f"{path}: no such model file (companion train asr "
-                                       "makes it)")
-        # batch CMN: each sound normalised by its own cepstral mean (and the features
-        # started afresh for each, in transcribe), so that a transcript does not depend on
-        # the sounds heard before it
-        self.decoder = Decoder(Config(hmm=str(hmm), lm=str(lm), dict=str(words),
-                                      lw=m.language_weight, cmn="batch", loglevel="FATAL"))
+        self.engine = make_engine(m)
         self.enhancer = None
         if m.enhancer is not None:
             from dialogue.speech.enhancer import VoiceEnhancer
@@ -126,24 +102,14 @@ class SpeechRecognizer:
         x, steer = self._front(channels)
         direction = (None if steer is None or self.microphones is None
                      else voice_direction(steer, self.microphones))
-        if self.enhancer is not None:
+        if self.enhancer is not None and self.cfg.model.mask_output:
             x = self.enhancer.enhance(x, self.mask_power(x))
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
             return Transcript("", 0.0, heard_snr, direction)
-        pcm = np.clip(np.round(x), -32768, 32767).astype(np.int16).tobytes()
-        d = self.decoder
-        # the feature extraction's noise removal keeps a running estimate of the noise from
-        # one sound to the next: started afresh, each sound is heard as on its own
-        d.reinit_feat()
-        d.start_utt()
-        d.process_raw(pcm, full_utt=True)
-        d.end_utt()
-        hyp = d.hyp()
-        text = hyp.hypstr.strip() if hyp is not None else ""
-        n = len(text.split())
-        confidence = float(hyp.prob) ** (1.0 / n) if n else 0.0
-        return Transcript(text, min(max(confidence, 0.0), 1.0), heard_snr, direction)
+        text, confidence = self.engine.decode(x)
+        return Transcript(text, min(max(confidence, 0.0), 1.0) if text else 0.0, heard_snr,
+                          direction)
 
     def _front(self, channels: np.ndarray) -> tuple[np.ndarray, Steering | None]:
         """The one channel decoded of ``channels`` (``(M, n)`` at 16 kHz; see
@@ -169,6 +135,12 @@ class SpeechRecognizer:
         loud = m.loud_room_db is None or noise_floor(samples) >= m.loud_room_db
         return sharp if loud else 1.0
 
+    @property
+    def min_confidence(self) -> float:
+        """The confidence a transcript needs to be acted on: the decoder's own threshold."""
+        m = self.cfg.model
+        return m.whisper.min_confidence if m.engine == "whisper" else self.cfg.min_confidence
+
     def understood(self, transcript: Transcript) -> bool:
         """Whether ``transcript`` is sure enough to act on (else: ask again)."""
-        return transcript.words > 0 and transcript.confidence >= self.cfg.min_confidence
+        return transcript.words > 0 and transcript.confidence >= self.min_confidence

@@ -36,8 +36,8 @@ from core.checkpoint import atomic_write_bytes
 from core.errors import UserError
 from dialogue.speech.beamformer import beamform
 from dialogue.speech.config import SpeechAdaptConfig, SpeechConfig
+from dialogue.speech.engines import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.enhancer import VoiceEnhancer
-from dialogue.speech.recognizer import ACOUSTIC_FILES, wheel_model_dir
 from dialogue.speech.training.corpus import TRAIN_FILES, tsv_lines
 from dialogue.speech.training.rooms import living_room, recording, speaker_within
 from dialogue.speech.training.sphinx_files import read_sendump, write_s3_array

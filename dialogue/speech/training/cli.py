@@ -15,7 +15,8 @@ from core.cli_args import integer, seed
 from core.paths import MODELS_DIR
 
 WER_BAR = 0.15          # at 1 m in a quiet room
-ROUTING_BAR = 0.90      # at 1 and 3 m
+ROUTING_BAR = 0.90      # at 1 m in a quiet room
+TV_ROUTING_BAR = 0.80   # at 3 m with the TV on
 
 
 def add_train(sub: argparse._SubParsersAction) -> None:
@@ -44,9 +45,11 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--config", type=Path, default=None,
                    help="YAML merged over speech.yaml (e.g. model: {acoustic_model: null} for "
                         "the wheel's unadapted acoustic model)")
-    p.add_argument("--unseen-voices", action="store_true",
-                   help="say the lines in four voices no household person has, which the "
-                        "acoustic model's adaptation never heard")
+    p.add_argument("--voices", choices=("household", "visitors", "held-out"),
+                   default="household",
+                   help="who says the lines: four of the household's people (default), four "
+                        "espeak-ng visitors no person has, or the held-out synthesizer "
+                        "families (Flite, Festival) no model or setting was chosen on")
     p.add_argument("--microphones", choices=("one", "array"), default=None,
                    help="record one microphone (the beam's gain assumed, the TV dry) or each "
                         "of the head's four, decoded as model.beamformer says (default: as "
@@ -92,22 +95,25 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.speech.training.evaluate import evaluate_asr, heads_microphones
 
     result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
-                          unseen_voices=args.unseen_voices,
+                          voices=args.voices,
                           array=heads_microphones(args.microphones))
     if args.json:
         print(json.dumps(result))
         return 0
     print(f"{result['lines']} held-out lines, voices {', '.join(result['voices'])}; "
           f"recognition {result['real_time_factor']:.2f} x real time")
-    print(f"{'noise':<6} {'distance':>8} {'WER':>6} {'understood':>10} {'routing':>8} "
-          f"{'on text':>8}")
+    print(f"{'voices':<10} {'noise':<6} {'distance':>8} {'WER':>6} {'understood':>10} "
+          f"{'routing':>8} {'on text':>8}")
     for r in result["rows"]:
         routing = f"{r['routing']:.3f}" if r["routing"] is not None else "-"
         text = f"{r['routing_text']:.3f}" if r["routing_text"] is not None else "-"
-        print(f"{r['noise']:<6} {r['distance_m']:>7g}m {r['wer']:>6.3f} {r['understood']:>10.3f}"
-              f" {routing:>8} {text:>8}")
-    quiet = next(r for r in result["rows"] if r["noise"] == "quiet" and r["distance_m"] == 1)
-    near = [r["routing"] for r in result["rows"] if r["distance_m"] <= 3]
-    print(f"bars: WER at 1 m, quiet {quiet['wer']:.3f} (bar <= {WER_BAR}); routing at 1-3 m "
-          f"at least {min(near):.3f} (bar >= {ROUTING_BAR})")
+        print(f"{r['voices']:<10} {r['noise']:<6} {r['distance_m']:>7g}m {r['wer']:>6.3f} "
+              f"{r['understood']:>10.3f} {routing:>8} {text:>8}")
+    rows = result["rows"]
+    quiet = [r["wer"] for r in rows if r["noise"] == "quiet" and r["distance_m"] == 1]
+    near = [r["routing"] for r in rows if r["noise"] == "quiet" and r["distance_m"] == 1]
+    tv = [r["routing"] for r in rows if r["noise"] == "tv" and r["distance_m"] == 3]
+    print(f"bars: WER at 1 m, quiet, at most {max(quiet):.3f} (bar <= {WER_BAR}); routing at "
+          f"1 m quiet at least {min(near):.3f} (bar >= {ROUTING_BAR}), at 3 m with the TV at "
+          f"least {min(tv):.3f} (bar >= {TV_ROUTING_BAR})")
     return 0

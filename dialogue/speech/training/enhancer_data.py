@@ -5,7 +5,7 @@ Each example keeps its two parts apart (what the voice alone and the background 
 would have recorded, :meth:`Acoustics.parts_at_microphones`), which is what the network
 learns to tell apart. The programmes are made here, never the one the household runs and
 ``companion eval asr`` play (:mod:`sim.soundscape`): other voices (no household
-voice, and not the presenter's voice or the visitors' of ``eval asr --unseen-voices``),
+voice, and not the presenter's voice or the visitors' of ``eval asr --voices visitors``),
 saying lines of the chatterbot corpus, over noise.
 """
 

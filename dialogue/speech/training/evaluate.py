@@ -32,10 +32,19 @@ DISTANCES_M = (1.0, 3.0, 5.0)
 VOICES = 4
 # Voices none of the household's people has, which the acoustic model's adaptation never
 # heard: how the recogniser does with a visitor.
-UNSEEN_VOICES = (Voice(name="en-us", variant="klatt6", pitch=45, speed=130),
+VISITOR_VOICES = (Voice(name="en-us", variant="klatt6", pitch=45, speed=130),
                  Voice(name="en-us", variant="m3", pitch=50, speed=130),
                  Voice(name="en-us", variant="f3", pitch=65, speed=130),
                  Voice(name="en-us", variant="klatt5", pitch=55, speed=130))
+# Voices of two synthesizer families (CMU Flite, Festival) that no model and no setting of
+# the project was trained, adapted or chosen on: how it does with voices it has never met.
+HELD_OUT_VOICES = (Voice(engine="flite", name="slt", speed=135),
+                   Voice(engine="festival", name="kal_diphone", speed=135),
+                   Voice(engine="flite", name="rms", speed=135),
+                   Voice(engine="festival", name="cmu_us_slt_arctic_hts", speed=135),
+                   Voice(engine="flite", name="awb", speed=135))
+VOICE_SETS = {"household": PEOPLE_VOICES[:VOICES], "visitors": VISITOR_VOICES,
+              "held-out": HELD_OUT_VOICES}
 ROOM_M = (8.0, 7.0)                   # the living room's width and depth
 
 
@@ -45,6 +54,7 @@ class Condition:
 
     distance: float
     noise: str
+    family: str           # the synthesizer of the voices
     refs: list[str]
     hyps: list[str]
     understood: list[bool]
@@ -54,7 +64,8 @@ class Condition:
     def row(self) -> dict[str, object]:
         """The condition's figures."""
         n_routed = len(self.routed)
-        return {"distance_m": self.distance, "noise": self.noise, "lines": len(self.refs),
+        return {"distance_m": self.distance, "noise": self.noise, "voices": self.family,
+                "lines": len(self.refs),
                 "wer": round(jiwer.wer(self.refs, self.hyps), 4),
                 "understood": round(float(np.mean(self.understood)), 4),
                 "routing": round(sum(self.routed) / n_routed, 4) if n_routed else None,
@@ -69,6 +80,7 @@ class Said:
     noise: str
     distance: float
     index: int            # of the line in the list given
+    voice: Voice
     heard: Transcript
     decode_s: float
     audio_s: float
@@ -81,7 +93,8 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
     each of the head's microphones records it, :meth:`Acoustics.parts_at_array`)."""
     rng = np.random.default_rng(seed)
     loops = noise_loops(seed)
-    voices = [synthesise(text, speakers[i % len(speakers)]) for i, text in enumerate(texts)]
+    who = [speakers[i % len(speakers)] for i in range(len(texts))]
+    voices = [synthesise(text, voice) for text, voice in zip(texts, who, strict=True)]
     for noise in NOISES:
         acoustics, robot = living_room(*ROOM_M, noise)
         for distance in DISTANCES_M:
@@ -90,7 +103,7 @@ def said_in_rooms(texts: list[str], speakers: Sequence[Voice], recogniser: Speec
                 audio = recording(acoustics, samples, rate, speaker, robot, loops, rng, array)
                 t0 = time.perf_counter()
                 heard = recogniser.transcribe(audio, RATE)
-                yield Said(noise, distance, i, heard, time.perf_counter() - t0,
+                yield Said(noise, distance, i, who[i], heard, time.perf_counter() - t0,
                            audio.shape[-1] / RATE)
 
 
@@ -102,24 +115,26 @@ def heads_microphones(choice: str | None = None) -> bool:
 
 def evaluate_asr(limit: int | None = None, seed: int = 0,
                  progress: Callable[[str], None] | None = None,
-                 cfg: SpeechConfig | None = None, unseen_voices: bool = False,
+                 cfg: SpeechConfig | None = None, voices: str = "household",
                  array: bool | None = None) -> dict[str, object]:
-    """The table of :class:`Condition` rows over the held-out lines (the first ``limit``
-    of each file when given), with the recogniser's speed; ``cfg`` chooses the models, and
-    ``unseen_voices`` says the lines in :data:`UNSEEN_VOICES` instead of the people's;
+    """The table of :class:`Condition` rows (one per voice family, noise and distance) over
+    the held-out lines (the first ``limit`` of each file when given), with the recogniser's
+    speed; ``cfg`` chooses the models, and ``voices`` who says the lines (a key of
+    :data:`VOICE_SETS`: the people's, visitors' or the held-out families');
     ``array`` records all the head's microphones (:func:`said_in_rooms`; default: as the
     robot's ``microphones.array`` says)."""
     if array is None:
         array = heads_microphones()
-    speakers = UNSEEN_VOICES if unseen_voices else PEOPLE_VOICES[:VOICES]
+    speakers = VOICE_SETS[voices]
     lines = [(label if name.startswith("intent") else None, text)
              for name in HELD_OUT_FILES for label, text in tsv_lines(name)[:limit]]
     recogniser, router = SpeechRecognizer(cfg), IntentClassifier.default()
-    conditions: dict[tuple[str, float], Condition] = {}
+    conditions: dict[tuple[str, str, float], Condition] = {}
     decode_s = audio_s = 0.0
     for said in said_in_rooms([text for _, text in lines], speakers, recogniser, seed, array):
-        c = conditions.setdefault((said.noise, said.distance),
-                                  Condition(said.distance, said.noise, [], [], [], [], []))
+        key = (said.voice.engine, said.noise, said.distance)
+        c = conditions.setdefault(key, Condition(said.distance, said.noise, said.voice.engine,
+                                                 [], [], [], [], []))
         label, text = lines[said.index]
         decode_s, audio_s = decode_s + said.decode_s, audio_s + said.audio_s
         c.refs.append(" ".join(spoken_words(text)))
@@ -130,6 +145,6 @@ def evaluate_asr(limit: int | None = None, seed: int = 0,
             c.routed_text.append(router.classify(text).label == label)
         if said.index == len(lines) - 1 and progress is not None:
             progress(f"{said.noise} {said.distance:g} m: {c.row()}")
-    return {"rows": [c.row() for c in conditions.values()], "array": array,
-            "voices": [v.espeak_name for v in speakers],
+    return {"rows": [conditions[k].row() for k in sorted(conditions)], "array": array,
+            "voices": [v.label for v in speakers], "recogniser": recogniser.cfg.model.engine,
             "lines": len(lines), "real_time_factor": round(decode_s / audio_s, 4)}

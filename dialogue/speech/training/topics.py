@@ -19,7 +19,7 @@ from pathlib import Path
 
 from dialogue.qa.wordnet import WordNet
 from dialogue.speech.config import TopicsConfig
-from dialogue.speech.recognizer import wheel_model_dir
+from dialogue.speech.engines import wheel_model_dir
 from dialogue.speech.words import spoken_words
 
 UNKNOWN = -(2 ** 29)   # pocketsphinx's log probability of a word its model lacks

@@ -13,7 +13,7 @@ import yaml
 from core.checkpoint import atomic_write_bytes
 from core.paths import WORLDS_DIR
 from dialogue.speech.config import SpeechConfig
-from dialogue.speech.recognizer import wheel_model_dir
+from dialogue.speech.engines import wheel_model_dir
 from dialogue.speech.training.corpus import (
     DEV_FILE,
     HELD_OUT_FILES,
