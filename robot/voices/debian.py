@@ -46,8 +46,7 @@ def _samples(wav: bytes) -> tuple[np.ndarray, int]:
 
 
 def _run(command: list[str], text: str, out: Path) -> bytes:
-    done = subprocess.run(command, input=text.encode(), capture_output=True, timeout=60,
-                          check=False)
+    done = subprocess.run(command, capture_output=True, timeout=60, check=False)
     if done.returncode != 0 or not out.is_file():
         raise VoiceError(f"{Path(command[0]).name} could not say {text[:60]!r}: "
                          f"{done.stderr.decode(errors='replace')[-200:]}")
@@ -61,15 +60,13 @@ def say(text: str, voice: Voice) -> tuple[np.ndarray, int]:
         return np.zeros(0, dtype=np.int16), 16000
     stretch = f"{OWN_PACE_WPM / voice.speed:.3f}"
     with tempfile.TemporaryDirectory() as folder:
-        out = Path(folder) / "line.wav"
+        out, line = Path(folder) / "line.wav", Path(folder) / "line.txt"
+        line.write_text(text, encoding="utf-8")
         if voice.engine == "flite":
-            command = [_program("flite", "flite"), "-voice", voice.name,
+            command = [_program("flite", "flite"), "-voice", voice.name, "-f", str(line),
                        "--setf", f"duration_stretch={stretch}", "-o", str(out)]
-            text_file = Path(folder) / "line.txt"
-            text_file.write_text(text, encoding="utf-8")
-            command[1:1] = ["-f", str(text_file)]
         else:
-            command = [_program("text2wave", "festival"), "-o", str(out), "-eval",
+            command = [_program("text2wave", "festival"), str(line), "-o", str(out), "-eval",
                        f"(begin (voice_{voice.name}) "
                        f"(Parameter.set 'Duration_Stretch {stretch}))"]
         return _samples(_run(command, text, out))
