@@ -8,11 +8,13 @@ WORLD  ?= worlds/living_room.yaml
 WORDNET := /usr/share/wordnet/data.noun
 SPHINXTRAIN := /usr/lib/sphinxtrain/map_adapt
 FESTIVAL := /usr/share/festival/voices/us/cmu_us_slt_arctic_hts
+PORTAUDIO := /usr/lib/x86_64-linux-gnu/libportaudio.so.2
+RECORDINGS := /usr/share/pocketsphinx/test/data/librivox/fileids
 SUDO   := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: setup browser demo test lint bench snapshots clean
 
-setup: $(STAMP) $(WORDNET) $(SPHINXTRAIN) $(FESTIVAL) browser
+setup: $(STAMP) $(WORDNET) $(SPHINXTRAIN) $(FESTIVAL) $(PORTAUDIO) $(RECORDINGS) browser
 
 # WordNet 3.0 (Debian's wordnet-base) answers the robot's everyday questions, read in place.
 $(WORDNET):
@@ -33,6 +35,19 @@ $(FESTIVAL):
 	$(SUDO) apt-get update -qq
 	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends \
 	  flite festival festvox-kallpc16k festvox-us-slt-hts
+
+# `companion chat --listen` reads the computer's microphone through sounddevice, which loads
+# PortAudio (Debian's libportaudio2).
+$(PORTAUDIO):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends libportaudio2
+
+# People's own voices, recorded (`companion eval asr --recordings`): the test recordings of
+# Debian's pocketsphinx-testdata and the English prompts of Asterisk's core sounds.
+$(RECORDINGS):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends pocketsphinx-testdata \
+	  asterisk-core-sounds-en asterisk-core-sounds-en-wav
 
 # The tablet's browser tests (tests/test_tablet_browser.py) drive headless Chromium through
 # its driver: Debian's chromium and chromium-driver (and a colour emoji font for the pages'

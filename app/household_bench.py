@@ -29,7 +29,7 @@ from core.paths import WORLDS_DIR
 
 WORLDS = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
 LONG_WORLD = "nursing_home"
-METRICS = ("rsr", "mood_positive_share", "lines_heard", "lines_answered",
+METRICS = ("rsr", "mood_positive_share", "lines_said", "lines_answered",
            "answer_latency_s_median", "dont_know_answers", "find_people_tries",
            "find_people_found", "questions_asked", "questions_grounded", "wall_s",
            "peak_rss_mb")
@@ -107,14 +107,14 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
                            "max": max(values)} if values else None)
         configs[config] = {"runs": len(mine), **stats}
     latencies = sorted(x for r in rows for x in r["latencies"])
-    heard = sum(r["lines_heard"] for r in rows)
+    said = sum(r["lines_said"] for r in rows)   # to the robot: not encouragement, not others
     tries = sum(r["find_people_tries"] for r in rows)
     asked = sum(r["questions_asked"] for r in rows)
     return {
         "configs": configs,
-        "lines_heard": heard,
-        "lines_answered_share": sum(x <= ANSWERED_WITHIN_S for x in latencies) / heard
-        if heard else None,
+        "lines_said": said,
+        "lines_answered_share": sum(x <= ANSWERED_WITHIN_S for x in latencies) / said
+        if said else None,
         "answer_latency_s_median": statistics.median(latencies) if latencies else None,
         "find_people_found_share": sum(r["find_people_found"] for r in rows) / tries
         if tries else None,
@@ -136,7 +136,7 @@ def _cell(stat: dict[str, float] | None, digits: int, scale: float = 1.0) -> str
 def table(summary: dict[str, Any], seeds: Sequence[int]) -> str:
     """The summary as a Markdown table (mean, and range over the seeds in brackets)."""
     cols = [("RSR %", "rsr", 2, 100), ("positive mood %", "mood_positive_share", 0, 100),
-            ("lines heard", "lines_heard", 1, 1), ("answered ≤ 15 s", "lines_answered", 1, 1),
+            ("lines said to it", "lines_said", 1, 1), ("answered ≤ 15 s", "lines_answered", 1, 1),
             ("median answer s", "answer_latency_s_median", 1, 1),
             ("don't know", "dont_know_answers", 1, 1),
             ("find people tries", "find_people_tries", 1, 1),
@@ -156,7 +156,7 @@ def table(summary: dict[str, Any], seeds: Sequence[int]) -> str:
     latency = summary["answer_latency_s_median"]
     lines += ["", f"Over all {sum(c['runs'] for c in summary['configs'].values())} runs "
               f"(seeds {', '.join(map(str, seeds))}): lines answered within 15 s "
-              f"{share('lines_answered_share')} of {summary['lines_heard']}, median answer "
+              f"{share('lines_answered_share')} of {summary['lines_said']}, median answer "
               f"{'-' if latency is None else f'{latency:.1f} s'}; find people "
               f"{share('find_people_found_share')} of tries; questions grounded "
               f"{share('questions_grounded_share')}; lowest RSR {100 * summary['rsr_min']:.2f} %."]

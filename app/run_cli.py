@@ -42,7 +42,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="YAML overriding config/behaviour.yaml")
     p.add_argument("--audio", action="store_true",
                    help="also speak the robot's sentences into audio/NNNN.wav and people's "
-                   "lines into audio/people/line-NNNN.wav, each in its own voice (espeak-ng)")
+                   "lines into audio/people/line-NNNN.wav, each in its own voice (robot/voices/)")
     p.add_argument("--hearing", choices=("audio", "fast"), default="audio",
                    help="audio (default): people's voices are synthesised, carried through "
                    "the rooms and recognised; fast: audible lines are heard as said, from "

@@ -1,4 +1,5 @@
-"""The recogniser's confidence threshold (``min_confidence`` in config/speech.yaml),
+"""The recogniser's confidence threshold (config/speech.yaml: ``min_confidence`` for
+pocketsphinx, ``model.whisper.min_confidence`` for Whisper),
 chosen on lines that neither the language model, the acoustic model's adaptation nor
 ``companion eval asr`` ever saw: the held-out knowledge questions
 (``dialogue/data/knowledge_questions.tsv``, "what is a volcano", "who invented the
@@ -21,7 +22,7 @@ The ``faint_`` columns ask whether a *faint* line, one whose speech stood less t
 ``listening.closer_below_snr_db`` (config/behaviour.yaml) over the noise at the
 microphones, in any of the six conditions, is worth holding to a stricter threshold than the
 rest: under it the robot asks its speaker to come closer, which counts -``ASK_COST`` like
-asking again. Thresholds below ``min_confidence`` are not weighed for them (that one holds for
+asking again. Thresholds below the decoder's own are not weighed for them (that one holds for
 every line); it prints the one of most worth.
 
 With ``--lines requests`` the lines are the 90 spoken requests (``dialogue/data/
@@ -50,7 +51,7 @@ from dialogue.speech.training.evaluate import VOICES, heads_microphones, said_in
 from dialogue.speech.words import spoken_words
 from robot.voices import PEOPLE_VOICES
 
-THRESHOLDS = np.round(np.arange(0.0, 0.501, 0.025), 3)
+THRESHOLDS = np.round(np.arange(0.0, 0.951, 0.025), 3)   # whisper's confidences run higher
 ASK_COST = 0.5   # asking again costs half a wrong answer: the person repeats, once
 
 
@@ -105,7 +106,7 @@ def main() -> None:
                      **weighed("faint", faint, accepted, usable)})
         print(rows[-1])
     chosen = max(rows, key=lambda r: r["near_quiet_worth"])["threshold"]
-    for_faint = [r for r in rows if r["threshold"] >= cfg.min_confidence and faint.any()]
+    for_faint = [r for r in rows if r["threshold"] >= cfg.acting_confidence and faint.any()]
     faint_chosen = (max(for_faint, key=lambda r: r["faint_worth"])["threshold"]
                     if for_faint else None)
     print(f"{len(texts)} lines; usable without a threshold: near and quiet "

@@ -11,6 +11,7 @@ import statistics
 import sys
 import tempfile
 import time
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -47,10 +48,15 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
                    help="weather block file (default: dialogue/data/weather_sample.yaml)")
     p.add_argument("--feed", type=Path, default=None,
                    help="RSS/Atom file for news (default: dialogue/data/news_sample.xml)")
-    p.add_argument("--audio", type=Path, default=None, metavar="FILE.wav",
-                   help="transcribe this WAV file (16-bit PCM; several channels are taken "
-                        "as the head's microphones) with the robot's speech recogniser, "
-                        "answer it, and leave")
+    heard = p.add_mutually_exclusive_group()
+    heard.add_argument("--audio", type=Path, default=None, metavar="FILE.wav",
+                       help="transcribe this WAV file (16-bit PCM; several channels are taken "
+                            "as the head's microphones) with the robot's speech recogniser, "
+                            "answer it, and leave")
+    heard.add_argument("--listen", action="store_true",
+                       help="listen to the computer's default microphone: each time you stop "
+                            "talking, what you said is transcribed and answered (Ctrl-C "
+                            "leaves)")
     p.add_argument("--out", type=Path, default=None,
                    help="keep the session's maps, photos and reply log (dialogue.jsonl) in this "
                         "folder (default: a temporary folder, removed when the session ends, "
@@ -117,6 +123,11 @@ def run_chat(args: argparse.Namespace, stdin: TextIO | None = None,
 
 
 def _chat(args: argparse.Namespace, folder: Path, stdin: TextIO, out: TextIO) -> int:
+    if args.listen:   # the microphone first: without one no model needs loading
+        from dialogue.speech.listen import microphone
+
+        with microphone() as blocks:
+            return _listen(args, folder, blocks, out)
     from dialogue.factory import chat_session, robot_mood
 
     manager, drives, personality = chat_session(args.scenario, DEFAULT_SCENARIO, args.weather,
@@ -168,13 +179,60 @@ def _answer_audio(args: argparse.Namespace, manager: Any, mood: str, out: TextIO
     samples, rate = read_wav(args.audio, all_channels=True)   # a run's four microphones too
     heard = SpeechRecognizer().transcribe(samples, rate)
     reply = manager.respond(heard.text, mood, confidence=heard.confidence)
-    if args.json:
-        print(json.dumps({"heard": heard.text, "confidence": round(heard.confidence, 3),
-                          "snr_db": round(heard.snr_db, 1), **reply.to_dict()}), file=out)
-        return 0
+    _print_heard(heard, reply, args.json, out)
+    return 0
+
+
+def _print_heard(heard: Any, reply: Any, as_json: bool, out: TextIO,
+                 extra: dict[str, float] | None = None) -> None:
+    """What the recogniser heard and the reply: a JSON object, or two lines or more."""
+    if as_json:
+        print(json.dumps({**(extra or {}), "heard": heard.text,
+                          "confidence": round(heard.confidence, 3),
+                          "snr_db": round(heard.snr_db, 1), **reply.to_dict()}), file=out,
+              flush=True)
+        return
     print(f"heard: {heard.text or '(no words)'} (confidence {heard.confidence:.2f}, "
           f"{heard.snr_db:.0f} dB over the noise)", file=out)
     _print_reply(reply, out)
+    out.flush()
+
+
+def _listen(args: argparse.Namespace, folder: Path, blocks: Iterable[Any], out: TextIO) -> int:
+    """``chat --listen``: the session's dialogue, then each utterance heard in ``blocks``
+    answered (:func:`listen_and_answer`)."""
+    from dialogue.factory import chat_session, robot_mood
+
+    manager, drives, personality = chat_session(args.scenario, DEFAULT_SCENARIO, args.weather,
+                                                args.feed, folder)
+    manager.context.mode = args.mode
+    mood = args.mood or robot_mood(drives, personality)[0]
+    if not args.json:
+        print(f"Robot mood: {mood}. Listening to the default microphone: talk, and the robot "
+              "answers when you stop; Ctrl-C leaves.", file=out, flush=True)
+    return listen_and_answer(blocks, manager, mood, out, args.json)
+
+
+def listen_and_answer(blocks: Iterable[Any], manager: Any, mood: str, out: TextIO,
+                      as_json: bool = False, recognizer: Any = None, detector: Any = None) -> int:
+    """Pass ``blocks`` (16 kHz int16, from a microphone or a file) through the voice-activity
+    detector; give each utterance, as soon as it ends, to the recogniser and ``manager`` (as
+    ``chat --audio`` does) and print what was heard and the reply. 0 at the end of the blocks
+    or on Ctrl-C (SIGTERM is passed on)."""
+    from dialogue.speech.listen import utterances
+    from dialogue.speech.recognizer import SpeechRecognizer
+
+    recognizer = recognizer or SpeechRecognizer()
+    try:
+        for utterance in utterances(blocks, detector):
+            heard = recognizer.transcribe(utterance.samples)
+            reply = manager.respond(heard.text, mood, confidence=heard.confidence)
+            _print_heard(heard, reply, as_json, out, {"start_s": round(utterance.start_s, 2),
+                                                      "end_s": round(utterance.end_s, 2)})
+    except Terminated:
+        raise
+    except KeyboardInterrupt:   # Ctrl-C: goodbye
+        print(file=out)
     return 0
 
 

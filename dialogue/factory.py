@@ -73,7 +73,7 @@ def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir
     style = shipped_style() if style == "shipped" else style
     return DialogueManager(qa, chitchat=shipped_chitchat(), style=style,
                            on_reply=reply_logger(out_dir / "dialogue.jsonl"),
-                           min_confidence=load_speech_config().min_confidence)
+                           min_confidence=load_speech_config().acting_confidence)
 
 
 def chat_session(scenario_path: Path | None, default_scenario: Path, weather_path: Path | None,
@@ -104,7 +104,7 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
                take_photo=scenario_camera(scenario_path or default_scenario, out))
     manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
                               on_reply=reply_logger(out / "dialogue.jsonl"),
-                              min_confidence=load_speech_config().min_confidence)
+                              min_confidence=load_speech_config().acting_confidence)
     return manager, drives, personality
 
 

@@ -1,5 +1,5 @@
 """What the robot says: logged as events, timed like speech, and with audio on, spoken into
-WAV files in its own voice (espeak-ng in process, robot/voices.py)."""
+WAV files in its own voice (robot/voices/: Piper or espeak-ng, in process)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ class Speaker:
 
     With ``audio_dir`` every sentence is also spoken in ``voice`` into
     ``audio_dir/NNNN.wav`` (NNNN counts the sentences from 0001) and the file name is added
-    to its event as ``audio``. A sentence espeak-ng cannot say is logged without audio.
+    to its event as ``audio``. A sentence the voice cannot say is logged without audio.
     """
 
     def __init__(self, events: EventLog, audio_dir: str | Path | None = None,

@@ -17,7 +17,7 @@ def fake_run(folder: Path, seed: int, latencies: list[float]) -> None:
     """A complete run folder: metrics and the heard/say events behind the latencies."""
     folder.mkdir(parents=True)
     metrics = dict.fromkeys(METRICS, 1)
-    metrics.update(rsr=1.0 - seed / 100, interrupted=False, lines_heard=len(latencies) + 1,
+    metrics.update(rsr=1.0 - seed / 100, interrupted=False, lines_said=len(latencies) + 1,
                    answer_latency_s_median=None, find_people_tries=4, find_people_found=seed,
                    questions_asked=2, questions_grounded=1)
     (folder / "metrics.json").write_text(json.dumps(metrics))
@@ -44,7 +44,7 @@ def test_complete_runs_are_reused_and_summarised(tmp_path):
     fake_run(tmp_path / "living_room-seed1", 1, [20.0])
     rows = bench(plan(["living_room"], [0, 1], 0), tmp_path)   # nothing runs
     summary = summarise(rows)
-    assert summary["lines_heard"] == 5
+    assert summary["lines_said"] == 5
     assert summary["lines_answered_share"] == pytest.approx(2 / 5)   # 20 s is too late
     assert summary["answer_latency_s_median"] == 2.0
     assert summary["find_people_found_share"] == pytest.approx(1 / 8)

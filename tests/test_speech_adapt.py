@@ -70,9 +70,11 @@ def _dictionary() -> set[str]:
 
 
 def with_acoustic_model(folder: Path) -> SpeechConfig:
+    """pocketsphinx, as it was adapted (from the enhancer's masked sound), with ``folder``'s
+    acoustic model."""
     cfg = load_speech_config()
     return cfg.model_copy(update={"model": cfg.model.model_copy(
-        update={"acoustic_model": folder})})
+        update={"engine": "pocketsphinx", "mask_output": True, "acoustic_model": folder})})
 
 
 @pytest.fixture(scope="module")

