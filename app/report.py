@@ -103,12 +103,15 @@ def _a_line_for_the_robot(said: dict[int, dict[str, Any]], line: dict[str, Any])
 
 
 def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
-    """Seconds from hearing each line said to the robot to the start of its reply, for the
-    lines that got one, sorted. Words of encouragement, and lines for someone else that the
-    robot took as its own, are not lines said to it (what was said is known from the run's
-    ``line_said`` events; a line typed on the tablet has none and counts)."""
+    """Seconds from the end of each line said to the robot (when its speaker's voice
+    stopped, which only the scoring knows; for a line typed on the tablet, when it was
+    heard) to the start of its reply, for the lines that got one, sorted. Words of
+    encouragement, and lines for someone else that the robot took as its own, are not lines
+    said to it (what was said is known from the run's ``line_said`` events; a typed line has
+    none and counts)."""
     said = {e["line"]: e for e in events if e["kind"] == "line_said"}
-    heard = {e["line"]: e["t"] for e in events if e["kind"] == "heard"
+    heard = {e["line"]: said.get(e["line"], e).get("ended", e["t"]) for e in events
+             if e["kind"] == "heard"
              and (e["line"] not in said or _a_line_for_the_robot(said, said[e["line"]]))}
     first: dict[int, float] = {}
     for e in events:
@@ -120,9 +123,9 @@ def answer_latencies(events: list[dict[str, Any]]) -> list[float]:
 def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
     """How the robot heard: lines people said to it (repeats apart), those loud enough to
     make a sound at its microphones, those it made out, those it was unsure of, how often
-    it asked for a line again, and the word error rate of its transcripts of lines said to
-    it (against what was said, which only the scoring knows); how it made out encouragement
-    and whom lines were for."""
+    it asked for a line again, how often it stopped a reply because someone spoke, and the
+    word error rate of its transcripts of lines said to it (against what was said, which
+    only the scoring knows); how it made out encouragement and whom lines were for."""
     said = {e["line"]: e for e in events if e["kind"] == "line_said"}
     to_robot = [e for e in said.values() if e["to"] in AUDIENCES and e["how"] == "say"]
     heard = [e for e in events if e["kind"] == "heard" and e["line"] in said]
@@ -134,6 +137,7 @@ def hearing_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
         "asked_again": sum(e["kind"] == "say" and e.get("route") == "say_again"
                            for e in events),
         "lines_overheard": sum(e["kind"] == "overheard" for e in events),
+        "spoken_over": sum(e["kind"] == "spoken_over" for e in events),   # replies cut
         **encouragement_metrics(said, events),
         **addressee_metrics(said, events),
         "speech_wer": round(jiwer.wer(refs, [e["text"] for e in heard]), 4) if heard else None,

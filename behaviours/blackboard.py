@@ -41,6 +41,8 @@ KEYS = {
     "voices": "list[VoiceHeard]: the voices picked up at this tick, made out or not, with "
               "where they came from and how far they stood over the noise",
     "heard": "list[HeardLine]: what people said to the robot, not yet answered",
+    "voice_started": "float: when (simulated s) speech last began at the microphones, as "
+                     "their voice-activity detector heard it (a reply then stops)",
     "feedback": "list[FeedbackEvent]: praise or scolding not yet credited to an action",
     "person": "tuple[str, float] | None: who last spoke to the robot or gave it feedback, "
               "and when (simulated s)",
@@ -71,8 +73,8 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
     """The value of every key of :data:`KEYS` before the first tick: the scenario's initial
     drives with their motivations and mood (no stimulus, no emotion); no action yet and
     nothing relieving; no camera frame yet (``frame_t`` -inf, so Sense takes one at the
-    first tick), nothing detected, heard, promised or requested; ``tracking`` 0.0: no
-    skill asks for a camera rate."""
+    first tick), nothing detected, heard, promised or requested (no voice started);
+    ``tracking`` 0.0: no skill asks for a camera rate."""
     drives = np.array([initial_drives[d] for d in DRIVES], dtype=np.float64)
     stimuli, emotion = np.zeros(3), 0.0
     values = {
@@ -80,7 +82,7 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
         **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
         "action": None, "relieving": False, "progress": 0, "act_status": None,
         "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "faces": [],
-        "facings": [], "voices": [], "heard": [],
+        "facings": [], "voices": [], "heard": [], "voice_started": -np.inf,
         "feedback": [], "person": None, "must_finish": False, "request": None,
         "listening_to": None, "tracking": 0.0,
         "people_seen": [], "rooms_searched": {},

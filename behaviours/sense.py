@@ -1,8 +1,9 @@
 """Sense: turn what happened since the last tick into stimuli on the blackboard.
 
 - people's social events (the simulation's inbox) and the robot's microphones and
-  tablet parts: each sound the microphones recorded goes through the speech recogniser
-  (``ctx.recognizer``), and is a voice heard this tick
+  tablet parts: the microphones' blocks of sound go through a voice-activity detector
+  (:mod:`behaviours.voice_streams`; a voice starting is ``voice_started``), each utterance
+  it ends through the speech recogniser (``ctx.recognizer``), and is a voice heard this tick
   (``voices``: where it came from, how loud, whether words were made out); whom the words
   are said to is judged from them (:mod:`dialogue.addressee`: the robot, unless someone
   else is called by name; a line whose words name no one may still be someone else's,
@@ -41,6 +42,7 @@ from behaviours.context import Context
 from behaviours.health import SensorHealth
 from behaviours.person_range import PersonRange
 from behaviours.skill import ContextBehaviour, people_in_view
+from behaviours.voice_streams import VoiceStreams
 from dialogue.addressee import AddresseeJudge
 from dialogue.feedback import FeedbackClassifier
 from dialogue.persona import Persona
@@ -71,18 +73,21 @@ class Sense(ContextBehaviour):
         super().__init__(name, ctx, reads=("tracking",),
                          writes=("stimuli", "emotion", "frame", "depth", "frame_t",
                                  "detections", "faces", "facings", "voices", "heard",
-                                 "feedback", "person"))
+                                 "voice_started", "feedback", "person"))
         self._encouraged_until = -np.inf
         self._emotion_until = -np.inf
         self._present_until = -np.inf
         self._noticed = 0.0          # when a person was last seen in a frame or heard
         self.range: PersonRange | None = None
         self.addressee: AddresseeJudge | None = None
+        self.streams: VoiceStreams | None = None
         self.health = SensorHealth(self.emit)
 
     def setup(self, **kwargs: Any) -> None:
         self.range = PersonRange(self.ctx.robot, self.ctx.config.perception)
         self.addressee = AddresseeJudge(Persona.default().config.name, self.ctx.household)
+        if self.ctx.recognizer is not None:
+            self.streams = VoiceStreams(self.ctx.recognizer.cfg.vad)
 
     def _social(self) -> None:
         """The household's social events (the inbox), then the microphones' recordings,
@@ -91,7 +96,7 @@ class Sense(ContextBehaviour):
         robot = self.ctx.robot
         for ev in [*self.ctx.inbox, *robot.microphones.recordings(), *robot.tablet.inputs()]:
             if isinstance(ev, Sound):
-                self._listen(ev)
+                self._sound(ev)
             elif isinstance(ev, HeardLine):      # typed on the tablet: the words as given
                 self._noticed = self.now
                 self._take(ev)
@@ -102,6 +107,18 @@ class Sense(ContextBehaviour):
         self.ctx.inbox.clear()
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
+
+    def _sound(self, block: Sound) -> None:
+        """A block of the microphones' sound: through the voice-activity detector, whose
+        ended utterances are recognised (on the fast hearing path a line comes whole)."""
+        if block.words is not None or self.streams is None:
+            self._listen(block)
+            return
+        heard = self.streams.take(block)
+        if heard.started:
+            self.bb.voice_started = self.now
+        for sound in heard.utterances:
+            self._listen(sound)
 
     def _listen(self, sound: Sound) -> None:
         """Recognise ``sound`` (on the fast hearing path its words come with it); act on

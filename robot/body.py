@@ -233,10 +233,11 @@ class Thermal(Protocol):
 
 
 class Microphones(Protocol):
-    """The head's microphones: each line they recorded, once its speaker finished it."""
+    """The head's microphones: the sound of each line in blocks, as it is said."""
 
     def recordings(self) -> list[Sound]:
-        """The recordings finished since the last call, oldest first (each given once)."""
+        """The blocks of sound recorded since the last call, oldest first (each given once;
+        a line's blocks in order, its last one marked ``ends``)."""
         ...
 
 

@@ -22,9 +22,14 @@ class Sound:
     recording, which cannot place it; from the head's four the robot finds it itself.
     Whether the words are encouragement is for the robot to make out from them.
 
+    The microphones hand a line's recording on in blocks as it is said (``audio`` the block's
+    samples; ``ends``: the recording's last block), so that the robot itself decides where
+    the speech starts and ends (behaviours/voice_streams.py).
+
     On a simulator's fast hearing path (``sim/household_sound.py``, docs/speech.md) no audio
     is made: ``audio`` is empty, ``words`` holds what was said and ``snr_db`` how far it
-    stood over the noise, standing in for a recogniser that makes out every audible line."""
+    stood over the noise, standing in for a recogniser that makes out every audible line;
+    it comes whole once the line is said."""
 
     line: int
     t: float
@@ -35,6 +40,7 @@ class Sound:
     heading: float
     words: str | None = None
     snr_db: float | None = None
+    ends: bool = True
 
 
 @dataclass(frozen=True)

@@ -18,7 +18,7 @@ import numpy as np
 
 from robot.audio import RATE
 from robot.percepts import SayEvent, Sound
-from robot.speaker import write_wav
+from robot.speaker import speech_seconds, write_wav
 from robot.voices import VoiceError, synthesise
 from sim.acoustics import Acoustics, Wall
 from sim.hearing import Microphones
@@ -86,10 +86,12 @@ class HouseholdSound:
         level = self.acoustics.speech_db(at, here)
         background = self.acoustics.background_db(here)
         audible = level >= background - self.microphones.cfg.audible_below_noise_db
-        self.said.append({"line": line, "person": event.person, "to": event.to, "how": kind,
-                          "text": event.text, "level_db": round(level, 1),
-                          "noise_db": round(float(background), 1), "audible": bool(audible),
-                          "bearing": round(math.atan2(at[1] - y, at[0] - x), 3)})
+        said = {"line": line, "person": event.person, "to": event.to, "how": kind,
+                "text": event.text, "level_db": round(level, 1),
+                "noise_db": round(float(background), 1), "audible": bool(audible),
+                "bearing": round(math.atan2(at[1] - y, at[0] - x), 3),
+                "ended": round(event.t + speech_seconds(event.text), 2)}   # when it ends
+        self.said.append(said)
         if not audible:
             return None
         if self.hearing == "fast":
@@ -98,6 +100,7 @@ class HouseholdSound:
                          snr_db=float(level - background))
         if (voice := self._voice(event.text, event.person)) is None:
             return None
+        said["ended"] = round(event.t + len(voice[0]) / voice[1], 2)   # as the voice says it
         loops, rng = noise_loops(self.scenario.seed), self.microphones.rng
         heading, array = self.robot.camera.heading(), self.microphones.cfg.array
         if array:

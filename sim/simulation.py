@@ -30,10 +30,11 @@ class Simulation:
 
     ``step()`` advances the robot's base, joints, battery and motor heat, the physics and the
     people's timeline by one scenario step and returns the social events that fell due. A
-    line a person says (or words of encouragement) reaches the robot's ``microphones`` part
-    once they have finished saying it (people talk at the robot's own pace,
-    :func:`robot.speaker.speech_seconds`), as recorded there (:class:`robot.percepts.Sound`,
-    none when too faint; :mod:`sim.household_sound`). An emotion a person shows is on their face
+    line a person says (or words of encouragement) is recorded as they start it
+    (:class:`robot.percepts.Sound`, none when too faint; :mod:`sim.household_sound`) and
+    reaches the robot's ``microphones`` part block by block as the time passes; on the fast
+    hearing path, whole, once they have finished saying it (people talk at the robot's own
+    pace, :func:`robot.speaker.speech_seconds`). An emotion a person shows is on their face
     (:meth:`World.show_emotion`), for the camera to see. With ``camera_helper`` a second
     process renders part of each camera frame (:class:`sim.split_render.SplitRenderer`;
     for a run with two cores). With ``voices_dir`` each recording is also written to
@@ -98,9 +99,11 @@ class Simulation:
                 events.append(e)
         done = [(e, kind) for end, e, kind in self._speaking if end <= t_next + 1e-9]
         self._speaking = [s for s in self._speaking if s[0] > t_next + 1e-9]
-        for e, kind in done:
-            if sound := self.sound.record(e, kind):
-                self.robot.microphones.record(sound)
+        if self.sound.hearing == "fast":
+            for e, kind in done:
+                if sound := self.sound.record(e, kind):
+                    self.robot.microphones.record(sound)
+        self.robot.microphones.advance(t_next)
         self.gaze.release(t_next)
         self.robot.step(self.dt)
         p.stepSimulation(physicsClientId=self.client)
@@ -116,6 +119,9 @@ class Simulation:
     def _speak(self, event: SayEvent, kind: str) -> None:
         end = event.t + speech_seconds(event.text)
         self._speaking.append((end, event, kind))
+        if self.sound.hearing != "fast" and (sound := self.sound.record(event, kind)):
+            lead = self.robot.cfg.acoustics.lead_s
+            self.robot.microphones.record(sound, begins=event.t - lead)
         x, y, _ = self.robot.base.pose()
         self.gaze.turn(event, end, (x, y))
 

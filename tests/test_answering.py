@@ -136,3 +136,18 @@ def test_a_line_too_faint_to_make_out_brings_its_speaker_closer(tmp_path):
         return
     assert said[2]["how"] == "repeat" and said[2]["level_db"] >= said[1]["level_db"] + 10
     assert replies[2]["route"] == "time" and "New York" in replies[2]["text"]
+
+
+def test_the_robot_stops_talking_when_spoken_over_and_answers_the_new_line(tmp_path):
+    """Tom speaks again while the robot is still giving the weather: it stops at once (the
+    voice-activity detector heard him start) and answers what he says."""
+    scenario = living_room([(3.0, "What is the weather like today?"),
+                            (8.0, "Sorry, tell me the time in Tokyo instead.")], duration=25.0)
+    events, _ = run(scenario, tmp_path)
+    weather = next(e for e in events if e["kind"] == "say" and e.get("line") == 1)
+    cut = next(e for e in events if e["kind"] == "spoken_over")
+    assert weather["route"] == "weather" and weather["t"] < cut["t"]
+    assert cut["t"] < weather["t"] + weather["duration"] and cut["unsaid_s"] > 1.0
+    assert cut["t"] - 8.0 < 1.0     # within a second of his starting
+    second = next(e for e in events if e["kind"] == "say" and e.get("line") == 2)
+    assert second["route"] == "time" and "Tokyo" in second["text"]

@@ -165,18 +165,23 @@ def test_a_remembered_dislike_holds_from_the_first_minute(tmp_path) -> None:
 HEAR_REACTIONS = """
 import json
 from pathlib import Path
+import numpy as np
 from sim.simulation import Simulation
 from dialogue.feedback import FeedbackClassifier
 from dialogue.speech.recognizer import SpeechRecognizer
 
 heard, recognizer, words = [], SpeechRecognizer(), FeedbackClassifier.default()
+blocks = {}   # line -> its recording's blocks so far
 with Simulation.from_file(Path("worlds") / "dislikes_dancing.yaml") as sim:
     for action, seconds in (("stand_by", 20), ("sing_dance", 20), ("chat", 20)):
         sim.show(action)
         for _ in range(round(seconds / sim.dt)):
             sim.step()
-            heard += [(action, words.value(recognizer.transcribe(e.audio, e.rate).text))
-                      for e in sim.robot.microphones.recordings()]
+            for e in sim.robot.microphones.recordings():
+                blocks.setdefault(e.line, []).append(e.audio)
+                if e.ends:
+                    audio = np.concatenate(blocks.pop(e.line), axis=-1)
+                    heard.append((action, words.value(recognizer.transcribe(audio, e.rate).text)))
 print(json.dumps(heard))
 """
 

@@ -56,13 +56,16 @@ class SomeoneInFront(ContextBehaviour):
 
 class Converse(ContextBehaviour):
     """Answer queued lines one at a time, each once the previous reply has been said and
-    the head points at its voice. SUCCESS when a reply asked for another action and has
-    been said; otherwise RUNNING."""
+    the head points at its voice. A voice that starts while the robot talks
+    (``voice_started``) stops what it is saying: it listens instead. SUCCESS when a reply
+    asked for another action and has been said; otherwise RUNNING."""
 
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
-        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections", "facings"),
+        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections", "facings",
+                                           "voice_started"),
                          writes=("heard", "listening_to", "request"))
         self._busy_until = 0.0
+        self._talking_since = 0.0       # when what it is saying began
         self._turned_at: float | None = None   # when the robot began turning to the voice
         self.gaze: SpeakerGaze | None = None
 
@@ -76,6 +79,7 @@ class Converse(ContextBehaviour):
 
     def initialise(self) -> None:
         self._busy_until, self._turned_at = self.now, None
+        self._talking_since = self.now
         self.bb.listening_to = None
         if not self._pending():
             self._busy_until += self.ctx.speaker.say(self.ctx.config.chat.opener,
@@ -115,7 +119,11 @@ class Converse(ContextBehaviour):
         lines = self._pending()
         self.bb.heard = lines
         if self.now < self._busy_until:
-            return Status.RUNNING
+            if self.bb.voice_started <= self._talking_since:
+                return Status.RUNNING
+            self.emit("spoken_over", after_s=round(self.now - self._talking_since, 2),
+                      unsaid_s=round(self._busy_until - self.now, 2))
+            self._busy_until = self.now
         if self.bb.request is not None:
             return Status.SUCCESS
         if not lines or not self._ready(lines[0]):
@@ -130,7 +138,7 @@ class Converse(ContextBehaviour):
             self.bb.listening_to = None
             return Status.RUNNING
         reply, seconds = reply_to(self, said, self.bb.mood["positive"])
-        self._busy_until = self.now + seconds
+        self._talking_since, self._busy_until = self.now, self.now + seconds
         if reply.action is not None and reply.action.name == "sing_dance":
             self.bb.request = reply.action
         return Status.RUNNING
