@@ -118,17 +118,18 @@ class Sense(ContextBehaviour):
         if heard.started:
             self.bb.voice_started = self.now
         for sound in heard.utterances:
-            self._listen(sound)
+            if self._listen(sound):
+                self.streams.made_out(sound.line)
 
-    def _listen(self, sound: Sound) -> None:
+    def _listen(self, sound: Sound) -> bool:
         """Recognise ``sound`` (on the fast hearing path its words come with it); act on
-        what was made out of it."""
+        what was made out of it. Whether words were made out."""
         recognizer = self.ctx.recognizer
         if sound.words is not None:
             words = Transcript(" ".join(spoken_words(sound.words)), 1.0, sound.snr_db or 0.0)
             unclear = False
         elif recognizer is None:    # a robot without speech recognition hears nothing
-            return
+            return False
         else:
             words = recognizer.transcribe(sound.audio, sound.rate)
             unclear = not recognizer.understood(words)
@@ -138,7 +139,7 @@ class Sense(ContextBehaviour):
         if not words.text:
             self.emit("unheard", line=sound.line, person=sound.person,
                       snr_db=round(words.snr_db, 1))
-            return
+            return False
         self._noticed = self.now
         assert self.addressee is not None, "setup() first"
         judged = self.addressee.judge(words.text)
@@ -147,6 +148,7 @@ class Sense(ContextBehaviour):
                              voice_bearing(sound, words), words.confidence,
                              unclear=unclear, snr_db=words.snr_db,
                              by_name=by_name, ended=self.now))
+        return True
 
     def _take(self, line: HeardLine) -> None:
         """Queue a line meant for the robot (heard, or typed on its tablet); log it."""

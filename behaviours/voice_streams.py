@@ -7,9 +7,11 @@ is being spoken over, and when an utterance has ended (speech, then ``min_silenc
 silence), which is when the robot may answer. Each ended utterance is handed on as one
 :class:`~robot.percepts.Sound` of all the channels from where the last one ended (the
 recording's start for the first, so its lead, the noise before the voice, comes too) to where
-the detector decided. A recording that ends in speech ends its utterance there; one in which
-the detector found no speech at all is handed on whole once it ends, for the recogniser to
-judge (too faint, or a voice the detector missed).
+the detector decided. A recording that ends in speech ends its utterance there. One of which
+no utterance was made out (:meth:`VoiceStreams.made_out`: the detector found no speech, or
+only fragments of a faint voice the recogniser got no words from) is handed on whole once
+it ends, for the recogniser to judge as one sound (too faint, or a voice the detector
+missed).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ class _Stream:
     detector: UtteranceDetector
     fed: int = 0                 # samples so far
     handed: int = 0              # samples already handed on in utterances
+    made_out: bool = False       # words were recognised in one of them
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,10 +69,16 @@ class VoiceStreams:
         utterances = [self._hand_on(stream, e.decided) for e in events
                       if isinstance(e, Utterance)]
         if block.ends:
-            if stream.handed == 0:   # no speech found: the recogniser judges it whole
-                utterances.append(self._hand_on(stream, stream.fed))
+            if not stream.made_out:   # nothing made out yet: the recogniser judges it whole
+                stream.handed = 0
+                utterances = [self._hand_on(stream, stream.fed)]
             del self._streams[block.line]
         return Heard(started, utterances)
+
+    def made_out(self, line: int) -> None:
+        """Words were recognised in an utterance of ``line``'s recording."""
+        if (stream := self._streams.get(line)) is not None:
+            stream.made_out = True
 
     @staticmethod
     def _hand_on(stream: _Stream, upto: int) -> Sound:

@@ -115,7 +115,7 @@ def test_the_detector_says_when_someone_is_speaking(two_lines):
     middle = round((first[0] + first[1]) / 2 * RATE)
     detector.feed(samples[:middle])
     assert detector.speaking
-    detector.feed(samples[middle:round((first[1] + 0.7) * RATE)])
+    detector.feed(samples[middle:round((first[1] + CFG.min_silence_ms / 1000 + 0.15) * RATE)])
     assert not detector.speaking
 
 

@@ -4,6 +4,8 @@ recording goes on, not when the recording (or a fixed wait) ends."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from behaviours.voice_streams import VoiceStreams
@@ -38,6 +40,8 @@ def test_an_utterance_is_handed_on_once_the_voice_has_stopped_not_when_the_recor
             if heard.started and started is None:
                 started = k * TICK
             handed += [(k * TICK, u) for u in heard.utterances]
+            if heard.utterances:
+                streams.made_out(block.line)      # as Sense does when words came of it
     assert started is not None and 0.5 < started < 1.0
     (at, utterance), = handed
     # the synthesised voice ends in a little silence of its own; the recording goes on 3 s
@@ -54,3 +58,19 @@ def test_a_recording_without_speech_is_handed_on_whole_when_it_ends():
     last = streams.take(Sound(3, 0.0, "Ann", None, noise[RATE:], RATE, 0.0))
     assert not first.started and first.utterances == [] and not last.started
     assert len(last.utterances) == 1 and np.array_equal(last.utterances[0].audio, noise)
+
+
+def test_a_faint_voice_nothing_was_made_out_of_is_judged_whole_when_it_ends():
+    """The detector may cut a faint voice into fragments the recogniser gets no words from;
+    then the whole recording is recognised once it ends. Once words were made out, the
+    rest of the recording is not handed on again."""
+    sound, _ = recording("Could you play something calm for me?", after_s=2.0)
+    half = sound.audio.shape[-1] // 2
+    for made_out, whole in ((False, True), (True, False)):
+        streams = VoiceStreams(load_speech_config().vad)
+        streams.take(dataclasses.replace(sound, audio=sound.audio[:half], ends=False))
+        if made_out:
+            streams.made_out(sound.line)
+        last = streams.take(dataclasses.replace(sound, audio=sound.audio[half:]))
+        assert (len(last.utterances) == 1
+                and np.array_equal(last.utterances[0].audio, sound.audio)) == whole
