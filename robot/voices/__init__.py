@@ -87,7 +87,7 @@ class Voice(StrictModel):
 # voices, so that each person of a household sounds like themselves and no evaluation hears
 # one synthesizer only; all General American at an unhurried pace. Chosen on the household's
 # spoken requests (docs/speech.md, Choosing the decoder): the recogniser hears Piper's voice
-# best (WER 0.11-0.13 at 1 m for these three builds), espeak-ng's f5, f2 and klatt4 next
+# best (WER 0.11-0.13 at 1 m for its two other builds), espeak-ng's f5, f2 and klatt4 next
 # (its m1-m7 and its British, Scottish and Caribbean accents far worse). The held-out
 # families (Flite, Festival) never chose one of them.
 PEOPLE_VOICES = (
