@@ -31,9 +31,9 @@ class SimMicrophones:
 
     def record(self, sound: Sound, begins: float | None = None) -> None:
         """Give out ``sound`` from ``begins`` on (s; its first sample is then), as
-        :meth:`advance` reaches it; at once, whole, without ``begins`` or audio (the fast
-        hearing path)."""
-        if begins is None or sound.audio.size == 0:
+        :meth:`advance` reaches it; at once, whole, without ``begins`` (the fast hearing
+        path)."""
+        if begins is None:
             self._blocks.append(sound)
         else:
             self._recording.append(_Recording(sound, begins))

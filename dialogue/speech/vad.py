@@ -12,8 +12,9 @@ config/speech.yaml): speech starts at a window at or over ``threshold``, ends af
 ``min_silence_ms`` below ``threshold - 0.15`` (Silero's end threshold), and is kept only when
 it lasted ``min_speech_ms``; ``pre_roll_ms`` of sound is kept before its start (and as much
 after its end), so that the first word is not cut. The live microphone of ``companion chat
---listen`` feeds it (dialogue/speech/listen.py), and so can the simulator.
-:func:`speech_present` says whether a short sound holds speech (for barge-in).
+--listen`` feeds it (dialogue/speech/listen.py), and so does each recording of a household
+run (behaviours/voice_streams.py), whose speech starts stop the robot's replies.
+:func:`speech_present` says whether a short sound holds speech.
 """
 
 from __future__ import annotations
