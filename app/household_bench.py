@@ -27,12 +27,14 @@ from core.checkpoint import atomic_write_bytes
 from core.errors import UserError
 from core.paths import WORLDS_DIR
 
-WORLDS = ("living_room", "nursing_home", "birthday_party", "low_battery_night")
+WORLDS = ("living_room", "nursing_home", "birthday_party", "low_battery_night",
+          "care_home_evening", "two_rooms")
 LONG_WORLD = "nursing_home"
 METRICS = ("rsr", "mood_positive_share", "lines_said", "lines_answered",
-           "answer_latency_s_median", "dont_know_answers", "find_people_tries",
-           "find_people_found", "questions_asked", "questions_grounded", "wall_s",
-           "peak_rss_mb")
+           "answer_latency_s_median", "lines_responded", "lines_answered_at_all",
+           "lines_ignored", "voices_not_made_out", "voices_approached", "dont_know_answers",
+           "find_people_tries", "find_people_found", "questions_asked", "questions_grounded",
+           "wall_s", "peak_rss_mb")
 BEGIN, END = "<!-- bench household: begin -->", "<!-- bench household: end -->"
 
 
@@ -116,6 +118,9 @@ def summarise(rows: list[dict[str, Any]]) -> dict[str, Any]:
         "lines_answered_share": sum(x <= ANSWERED_WITHIN_S for x in latencies) / said
         if said else None,
         "answer_latency_s_median": statistics.median(latencies) if latencies else None,
+        **{f"{key}_share": sum(r[key] for r in rows) / said if said else None
+           for key in ("lines_responded", "lines_answered_at_all")},
+        "lines_ignored": sum(r["lines_ignored"] for r in rows),
         "find_people_found_share": sum(r["find_people_found"] for r in rows) / tries
         if tries else None,
         "questions_grounded_share": sum(r["questions_grounded"] for r in rows) / asked
@@ -138,6 +143,9 @@ def table(summary: dict[str, Any], seeds: Sequence[int]) -> str:
     cols = [("RSR %", "rsr", 2, 100), ("positive mood %", "mood_positive_share", 0, 100),
             ("lines said to it", "lines_said", 1, 1), ("answered ≤ 15 s", "lines_answered", 1, 1),
             ("median answer s", "answer_latency_s_median", 1, 1),
+            ("responded ≤ 15 s", "lines_responded", 1, 1),
+            ("answered at all", "lines_answered_at_all", 1, 1),
+            ("ignored", "lines_ignored", 1, 1), ("went over", "voices_approached", 1, 1),
             ("don't know", "dont_know_answers", 1, 1),
             ("find people tries", "find_people_tries", 1, 1),
             ("found", "find_people_found", 1, 1), ("questions", "questions_asked", 1, 1),
@@ -157,7 +165,10 @@ def table(summary: dict[str, Any], seeds: Sequence[int]) -> str:
     lines += ["", f"Over all {sum(c['runs'] for c in summary['configs'].values())} runs "
               f"(seeds {', '.join(map(str, seeds))}): lines answered within 15 s "
               f"{share('lines_answered_share')} of {summary['lines_said']}, median answer "
-              f"{'-' if latency is None else f'{latency:.1f} s'}; find people "
+              f"{'-' if latency is None else f'{latency:.1f} s'}; responded to within 15 s "
+              f"{share('lines_responded_share')}, answered at all (after at most one "
+              f"repeat) {share('lines_answered_at_all_share')}, ignored "
+              f"{summary['lines_ignored']}; find people "
               f"{share('find_people_found_share')} of tries; questions grounded "
               f"{share('questions_grounded_share')}; lowest RSR {100 * summary['rsr_min']:.2f} %."]
     return "\n".join(lines)

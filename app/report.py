@@ -17,6 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from app.responses import NOT_ANSWERS, response_metrics
 from behaviours.step_record import StepRecord
 from core.checkpoint import atomic_write, atomic_write_bytes
 from core.events import LineFile
@@ -83,7 +84,6 @@ def compute_metrics(steps: StepRecord, events: list[dict[str, Any]]) -> dict[str
 
 
 ANSWERED_WITHIN_S = 15.0  # a line counts as answered when the reply starts this soon
-NOT_ANSWERS = ("say_again", "not_understood")   # replies that ask again or give up
 
 
 def _original(said: dict[int, dict[str, Any]], line: dict[str, Any]) -> dict[str, Any]:
@@ -196,6 +196,7 @@ def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
     latency = answer_latencies(events)
     return {
         **hearing_metrics(events),
+        **response_metrics(events),
         "lines_heard": len(heard),
         "lines_answered": sum(d <= ANSWERED_WITHIN_S for d in latency),
         "lines_replied": len(latency),

@@ -78,7 +78,7 @@ def add_bench(sub: argparse._SubParsersAction) -> None:
                        "print the mean and range of each interaction metric.")
     p.add_argument("--seeds", type=seed(), nargs="+", default=[0, 1, 2])
     p.add_argument("--worlds", nargs="+", default=None,
-                   help="worlds/NAME.yaml to run (default: the four shipped worlds)")
+                   help="worlds/NAME.yaml to run (default: the six shipped worlds)")
     p.add_argument("--long", type=integer(0, int(MAX_DURATION_S)), default=3600,
                    help="seconds of the long nursing-home run (0: none; default 3600)")
     p.add_argument("--jobs", type=integer(1, 64), default=1, help="runs at a time")
@@ -139,7 +139,9 @@ def run_command(args: argparse.Namespace) -> int:
         for key in ("duration_s", "rsr", "mood_positive_share", "preemptions",
                     "sentences_said", "lines_said", "lines_heard", "lines_unclear",
                     "asked_again", "speech_wer", "lines_answered", "lines_replied",
-                    "answer_latency_s_median", "dont_know_answers", "find_people_tries",
+                    "answer_latency_s_median", "lines_responded", "lines_ignored",
+                    "voices_not_made_out", "voices_approached", "dont_know_answers",
+                    "find_people_tries",
                     "find_people_found", "questions_asked", "questions_grounded",
                     "camera_frames", "wall_s", "peak_rss_mb"):
             print(f"  {key:24s} {metrics[key]}")

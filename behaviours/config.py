@@ -252,6 +252,15 @@ class GazeConfig(StrictModel):
     within_s: float = Field(ge=0)
 
 
+class UnmadeConfig(StrictModel):
+    """A voice heard of which no words were made out (behaviours/sense.py and listening.py):
+    how far over the noise it must stand to be responded to, and what the robot says."""
+
+    min_snr_db: float
+    coming_over: str
+    say_again: str
+
+
 class ListeningConfig(StrictModel):
     """Answering people (behaviours/listening.py, the chat skill): turning to a voice and
     the promise made while a safety action must finish."""
@@ -267,6 +276,7 @@ class ListeningConfig(StrictModel):
     activities: dict[str, str]
     closer_below_snr_db: float
     come_closer: str
+    unmade: UnmadeConfig
     gaze: GazeConfig
 
 

@@ -4,7 +4,8 @@ outside any one skill.
 - :func:`pending`: the queued lines still worth answering (a line older than
   ``chat.max_heard_age_s`` is dropped, unless the robot promised to answer it);
 - :func:`reply_to`: answer one line through the dialogue manager (the chat skill's
-  Converse and Promise);
+  Converse and Promise); a voice of which no words were made out gets a response too
+  (:func:`not_made_out`): the robot goes over to its speaker, or asks them to come closer;
 - :class:`Promise`: while a safety action must finish (charging on critical energy, resting
   when overheated) the base stays put, but the robot still talks: it answers each new line
   by voice at once, and what a reply asks of its body (a song and dance) it promises for
@@ -19,9 +20,11 @@ import math
 
 from py_trees.common import Status
 
+from behaviours.config import ListeningConfig
 from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
 from dialogue.manager import Reply
+from dialogue.qa.base import Action
 from robot.geometry import wrap_angle
 from robot.percepts import HeardLine
 
@@ -39,20 +42,34 @@ def head_error(ctx: Context, bearing: float) -> float:
     return wrap_angle(bearing - yaw)
 
 
+def not_made_out(cfg: ListeningConfig, said: HeardLine, can_move: bool) -> Reply:
+    """The response to ``said``, a voice of which no words were made out: when the robot
+    may move, it says it is coming over and asks for find people towards the voice (the
+    reply's action; once there it asks for the line again), else it asks the speaker to
+    come closer (a ``say_again`` reply)."""
+    if not can_move:
+        return Reply(cfg.come_closer, "say_again", found=False)
+    return Reply(cfg.unmade.coming_over, "coming_over", found=False,
+                 action=Action("find_people", {"bearing": said.bearing, "line": said.line}))
+
+
 def reply_to(behaviour: ContextBehaviour, said: HeardLine, positive: bool,
-             promise: str = "") -> tuple[Reply, float]:
+             promise: str = "", can_move: bool = False) -> tuple[Reply, float]:
     """Answer the line ``said`` through the dialogue manager in the robot's mood: say the
     reply (followed by ``promise`` when the reply asks for an action, which the caller
     starts later) and show its tablet page. A line the recogniser was unsure of is asked
     for again, and its speaker hears the request; when its speech hardly stood over the
-    noise (``listening.closer_below_snr_db``), the robot asks them to come closer too. The
-    reply, and how long saying it takes (s)."""
+    noise (``listening.closer_below_snr_db``), the robot asks them to come closer too. A
+    voice of which no words were made out gets :func:`not_made_out` (``can_move``: the
+    robot may go over to its speaker). The reply, and how long saying it takes (s)."""
     ctx, mood = behaviour.ctx, "positive" if positive else "negative"
-    reply = ctx.dialogue.respond(said.text, mood, confidence=said.confidence)
+    cfg = ctx.config.listening
+    reply = (ctx.dialogue.respond(said.text, mood, confidence=said.confidence)
+             if said.made_out else not_made_out(cfg, said, can_move))
     text = f"{reply.text} {promise}" if promise and reply.action is not None else reply.text
     if reply.route == "say_again":
-        closer = said.snr_db < ctx.config.listening.closer_below_snr_db
-        text = ctx.config.listening.come_closer if closer else text
+        closer = not said.made_out or said.snr_db < cfg.closer_below_snr_db
+        text = cfg.come_closer if closer else text
         ctx.ask_again(said.line, closer)
     seconds = ctx.speaker.say(text, behaviour=behaviour.name, to=said.person, line=said.line,
                               in_reply_to=said.text, route=reply.route, found=reply.found,

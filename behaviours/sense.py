@@ -10,7 +10,9 @@
   which the chat skill tells from the speaker's facing once it turned to them,
   :mod:`behaviours.speaker_gaze`);
   a line for the robot that it made out is queued in ``heard`` (marked ``unclear``
-  when the recogniser was unsure, so the chat skill asks for it again) and, like a person
+  when the recogniser was unsure, so the chat skill asks for it again; a voice of which no
+  words were made out is queued with none, unless it was too faint to be for the robot,
+  so that the robot responds to it) and, like a person
   in front, makes the human-present stimulus: someone talking to the robot is an
   interaction; lines for someone else are logged as overheard; a line heard as praise or
   scolding (r_external) is queued in ``feedback`` for :class:`behaviours.feedback.Credit`,
@@ -118,18 +120,40 @@ class Sense(ContextBehaviour):
         if heard.started:
             self.bb.voice_started = self.now
         for sound in heard.utterances:
-            if self._listen(sound):
+            words = self._listen(sound)
+            if words is not None and words.text:
                 self.streams.made_out(sound.line)
+            elif words is not None and heard.whole:
+                self._not_made_out(sound, words, heard.voiced)
 
-    def _listen(self, sound: Sound) -> bool:
+    def _not_made_out(self, sound: Sound, words: Transcript, voiced: bool) -> None:
+        """A recording of which no words were made out. One in which the detector found a
+        voice (``voiced``) is queued in ``heard`` as a line with no words, for the robot to
+        respond to (the chat skill turns to it, then goes over to the speaker or asks them
+        to come closer), unless its speech stood less than ``listening.unmade.min_snr_db``
+        over the noise: someone talking elsewhere, whom the robot lets be."""
+        respond = voiced and words.snr_db >= self.ctx.config.listening.unmade.min_snr_db
+        bearing = voice_bearing(sound, words)
+        self.emit("not_made_out", line=sound.line, person=sound.person, voiced=voiced,
+                  level_db=round(words.level_db, 1), snr_db=round(words.snr_db, 1),
+                  bearing=round(bearing, 3), respond=respond)
+        if not respond:
+            return
+        self._noticed = self.now
+        line = HeardLine(sound.line, sound.t, sound.person, "", "robot", bearing, 0.0,
+                         unclear=True, snr_db=words.snr_db, by_name=False, ended=self.now)
+        self.bb.heard = [*self.bb.heard, line]
+        self.bb.person = (line.person, self.now)
+
+    def _listen(self, sound: Sound) -> Transcript | None:
         """Recognise ``sound`` (on the fast hearing path its words come with it); act on
-        what was made out of it. Whether words were made out."""
+        what was made out of it. What was made out (None: nothing can hear it)."""
         recognizer = self.ctx.recognizer
         if sound.words is not None:
             words = Transcript(" ".join(spoken_words(sound.words)), 1.0, sound.snr_db or 0.0)
             unclear = False
         elif recognizer is None:    # a robot without speech recognition hears nothing
-            return False
+            return None
         else:
             words = recognizer.transcribe(sound.audio, sound.rate)
             unclear = not recognizer.understood(words)
@@ -139,7 +163,7 @@ class Sense(ContextBehaviour):
         if not words.text:
             self.emit("unheard", line=sound.line, person=sound.person,
                       snr_db=round(words.snr_db, 1))
-            return False
+            return words
         self._noticed = self.now
         assert self.addressee is not None, "setup() first"
         judged = self.addressee.judge(words.text)
@@ -148,7 +172,7 @@ class Sense(ContextBehaviour):
                              voice_bearing(sound, words), words.confidence,
                              unclear=unclear, snr_db=words.snr_db,
                              by_name=by_name, ended=self.now))
-        return True
+        return words
 
     def _take(self, line: HeardLine) -> None:
         """Queue a line meant for the robot (heard, or typed on its tablet); log it."""

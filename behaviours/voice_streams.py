@@ -11,7 +11,8 @@ the detector decided. A recording that ends in speech ends its utterance there. 
 no utterance was made out (:meth:`VoiceStreams.made_out`: the detector found no speech, or
 only fragments of a faint voice the recogniser got no words from) is handed on whole once
 it ends, for the recogniser to judge as one sound (too faint, or a voice the detector
-missed).
+missed); the robot responds to a voice of which nothing was made out
+(:attr:`Heard.whole`, :attr:`Heard.voiced`) only then, once.
 """
 
 from __future__ import annotations
@@ -34,15 +35,20 @@ class _Stream:
     fed: int = 0                 # samples so far
     handed: int = 0              # samples already handed on in utterances
     made_out: bool = False       # words were recognised in one of them
+    voiced: bool = False         # the detector found speech in it
 
 
 @dataclasses.dataclass(frozen=True)
 class Heard:
     """What one block completed: whether speech started in it (``started``), and the
-    utterances it ended, each a whole :class:`Sound`."""
+    utterances it ended, each a whole :class:`Sound`; ``whole``: the recording ended with
+    nothing made out of it, and its one utterance is all of it; ``voiced``: the detector
+    found speech in that recording."""
 
     started: bool
     utterances: list[Sound]
+    whole: bool = False
+    voiced: bool = False
 
 
 class VoiceStreams:
@@ -66,14 +72,16 @@ class VoiceStreams:
         if block.ends:
             events += stream.detector.finish()
         started = any(isinstance(e, SpeechStart) for e in events)
+        stream.voiced = stream.voiced or started
         utterances = [self._hand_on(stream, e.decided) for e in events
                       if isinstance(e, Utterance)]
+        whole = block.ends and not stream.made_out
+        if whole:                # nothing made out yet: the recogniser judges it whole
+            stream.handed = 0
+            utterances = [self._hand_on(stream, stream.fed)]
         if block.ends:
-            if not stream.made_out:   # nothing made out yet: the recogniser judges it whole
-                stream.handed = 0
-                utterances = [self._hand_on(stream, stream.fed)]
             del self._streams[block.line]
-        return Heard(started, utterances)
+        return Heard(started, utterances, whole, stream.voiced)
 
     def made_out(self, line: int) -> None:
         """Words were recognised in an utterance of ``line``'s recording."""

@@ -81,6 +81,12 @@ class HeardLine:
     ended: float = 0.0             # when the robot had heard it out (s)
 
     @property
+    def made_out(self) -> bool:
+        """Whether any words were made out (a voice of which none were is still queued,
+        for the robot to respond to)."""
+        return bool(self.text)
+
+    @property
     def to_robot(self) -> bool:
         """Whether the line was meant for the robot (or for everyone)."""
         return self.to in AUDIENCES

@@ -73,6 +73,7 @@ class Simulation:
             except OSError as exc:   # no processes to spare: the frames are drawn here
                 log.warning("no camera helper (%s); frames are drawn in one process", exc)
         self._speaking: list[tuple[float, SayEvent, str]] = []   # (when it ends, line, kind)
+        self._repeats: list[SayEvent] = []    # lines people will say again, not begun yet
         self.gaze = TalkGaze(self.world)
 
     @classmethod
@@ -88,6 +89,10 @@ class Simulation:
         x, y, _ = self.robot.base.pose()
         said = (self.world.advance(self.t, t_next, (x, y))
                 + self.reactions.react(t_next, self.world, (x, y)))
+        due = [e for e in self._repeats if e.t <= t_next + 1e-9]
+        self._repeats = [e for e in self._repeats if e.t > t_next + 1e-9]
+        for e in due:
+            self._speak(e, "repeat")
         for e in said:
             if isinstance(e, SayEvent):
                 self._speak(e, "say")
@@ -127,9 +132,10 @@ class Simulation:
 
     def ask_again(self, line: int, closer: bool = False) -> None:
         """The robot asked for ``line`` to be said again (and, with ``closer``, its speaker
-        to come closer): its speaker repeats it, if they do that (``repeat_if_asked``)."""
+        to come closer): its speaker repeats it, if they do that (``repeat_if_asked``), from
+        where they are when they begin (having walked up, asked to come closer)."""
         if (again := self.sound.asked_again(line, self.t, closer)) is not None:
-            self._speak(again, "repeat")
+            self._repeats.append(again)
 
     def line_number(self) -> int:
         """A number for a line that reaches the robot other than by voice (typed on its

@@ -24,6 +24,7 @@ from behaviours.skills.person_front import PersonFront
 from behaviours.skills.search import Search
 from behaviours.skills.setbacks import Escape, Ignored
 from perception.detector.yolo import Detection
+from robot.geometry import wrap_angle
 
 CUT_PX = 2   # a person box reaching this close to the frame's bottom is cut off there
 
@@ -102,6 +103,12 @@ class Approach:
         self.search.turned, self.walking = 0.0, None
         self.detours = 0
         self.front.forget()
+
+    def towards(self, bearing: float) -> None:
+        """Look for the person towards world ``bearing`` (rad) first: the search turns that
+        way, and a box seen there is followed at once."""
+        self.steer.look_towards(bearing)
+        self.turn = math.copysign(1.0, wrap_angle(bearing - self.pose()[2]))
 
     def lose_person(self) -> None:
         """Forget the followed person's sightings: unseen, neither close nor near, no face."""

@@ -7,7 +7,8 @@ head points at the voice, or after ``listening.answer_wait_s``; a line whose wor
 no one it answers unless everyone seen near the voice, once the head turned, looks away
 (:mod:`behaviours.speaker_gaze`; the line is then logged as overheard). What a reply asks of the
 robot is carried out: a song goes to ``request`` (Decide starts sing and dance next, and
-the chat ends once the reply is said), a tablet page is shown (``tablet`` event). Started
+the chat ends once the reply is said), as does going over to someone whose voice it could
+not make out (find people towards the voice), and a tablet page is shown (``tablet`` event). Started
 by the policy with nothing to answer, the robot opens with ``chat.opener``; then it needs a
 person in front, or it fails at once. The action lasts its Table 4.2 duration (Relieve).
 """
@@ -28,6 +29,7 @@ from behaviours.speaker_gaze import SpeakerGaze
 from robot.percepts import HeardLine
 
 HUMAN_PRESENT = 1  # index in the stimuli vector
+REQUESTED = ("sing_dance", "find_people")   # actions a reply may ask for, started next
 
 
 class SpokenTo(ContextBehaviour):
@@ -137,9 +139,9 @@ class Converse(ContextBehaviour):
                       to="someone", bearing=round(said.bearing, 3), seen_facing_away=True)
             self.bb.listening_to = None
             return Status.RUNNING
-        reply, seconds = reply_to(self, said, self.bb.mood["positive"])
+        reply, seconds = reply_to(self, said, self.bb.mood["positive"], can_move=True)
         self._talking_since, self._busy_until = self.now, self.now + seconds
-        if reply.action is not None and reply.action.name == "sing_dance":
+        if reply.action is not None and reply.action.name in REQUESTED:
             self.bb.request = reply.action
         return Status.RUNNING
 

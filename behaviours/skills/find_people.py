@@ -1,6 +1,9 @@
 """Find people: look for a person with the YOLO detector, turn to them and walk
 up to them with two simple-pid loops, greet them once their face confirms they look at the
-robot, and keep them centred while the action's Table 4.2 duration runs.
+robot, and keep them centred while the action's Table 4.2 duration runs. Asked to go to a
+voice the robot could not make out (``request``, from the chat skill), it turns towards
+the voice first, follows the person seen there, and asks them to say it again instead of
+greeting.
 
 Only the detector's boxes on the blackboard steer the robot (no simulator ground truth):
 
@@ -28,10 +31,11 @@ from py_trees.common import Access, ParallelPolicy, Status
 from py_trees.composites import Selector, Sequence
 
 from behaviours.context import Context
-from behaviours.skill import ContextBehaviour, Relieve, Say, contained_tick
+from behaviours.skill import ContextBehaviour, Relieve, contained_tick
 from behaviours.skills import approach_phases as phases
 from behaviours.skills.approach import Approach
 from behaviours.skills.box_steering import STEERING_READS, STEERING_WRITES, Steering, Tracking
+from dialogue.qa.base import Action
 
 
 class ApproachPerson(Sequence):
@@ -48,8 +52,8 @@ class ApproachPerson(Sequence):
     def __init__(self, ctx: Context, name: str = "Approach a person") -> None:
         super().__init__(name, memory=False)
         self.ctx = ctx
-        bb = self.attach_blackboard_client(name=name)
-        for key in (*STEERING_READS, "facings"):
+        self.bb = bb = self.attach_blackboard_client(name=name)
+        for key in (*STEERING_READS, "facings", "request"):
             bb.register_key(key, access=Access.READ)
         for key in (*STEERING_WRITES, "people_seen", "rooms_searched"):
             bb.register_key(key, access=Access.WRITE)
@@ -75,6 +79,8 @@ class ApproachPerson(Sequence):
 
     def initialise(self) -> None:
         self.approach.reset()
+        if (voice := voice_to_go_to(self.bb.request)) is not None:
+            self.approach.towards(voice["bearing"])
 
     def terminate(self, new_status: Status) -> None:
         self.ctx.robot.base.stop()
@@ -83,6 +89,37 @@ class ApproachPerson(Sequence):
         """py_trees' tick, a fault in any phase failing the whole approach (as for a leaf:
         :func:`~behaviours.skill.contained_tick`)."""
         yield from contained_tick(self, self.ctx, super().tick())
+
+
+def voice_to_go_to(request: Action | None) -> dict[str, Any] | None:
+    """The voice find people was asked to go to (its ``bearing``, rad, world frame, and
+    ``line``: a voice the robot could not make out), or None."""
+    if request is None or request.name != "find_people":
+        return None
+    return request.params
+
+
+class Greet(ContextBehaviour):
+    """Greet the person found; asked to go to a voice it could not make out, ask them to
+    say it again instead (and they hear the request). RUNNING while saying it."""
+
+    def __init__(self, ctx: Context, name: str = "Greet") -> None:
+        super().__init__(name, ctx, reads=("request",))
+        self._until = 0.0
+
+    def initialise(self) -> None:
+        ctx, voice = self.ctx, voice_to_go_to(self.bb.request)
+        if voice is None:
+            text = ctx.config.find_people.greet
+        else:
+            text = ctx.config.listening.unmade.say_again
+            ctx.ask_again(voice["line"], False)
+        self._until = self.now + ctx.speaker.say(
+            text, behaviour=self.name, **({} if voice is None else {"line": voice["line"],
+                                                                    "route": "say_again"}))
+
+    def update(self) -> Status:
+        return Status.SUCCESS if self.now >= self._until else Status.RUNNING
 
 
 class KeepCentred(ContextBehaviour):
@@ -121,7 +158,7 @@ def build(ctx: Context) -> py_trees.behaviour.Behaviour:
     belonging drive while keeping them centred."""
     greet_then_relieve = py_trees.composites.Sequence(
         "Greet and stay", memory=True,
-        children=[Say("Greet", ctx, ctx.config.find_people.greet),
+        children=[Greet(ctx),
                   Relieve("Belonging relieves", ctx, "find_people")])
     together = py_trees.composites.Parallel(
         "With the person", policy=ParallelPolicy.SuccessOnOne(),

@@ -29,14 +29,16 @@ QUIET, LOUD = 10, 90     # percentiles of frame power taken as noise and as spee
 @dataclass(frozen=True)
 class Transcript:
     """What the recogniser made of a sound: ``text`` (lower case, may be empty),
-    ``confidence`` in [0, 1], ``snr_db``, the speech's loudness over the noise, and
+    ``confidence`` in [0, 1], ``snr_db``, the speech's loudness over the noise,
     ``direction``, where the voice came from (rad in the head's frame, positive to the
-    left) when the head's microphones were steered at it, else None."""
+    left) when the head's microphones were steered at it, else None, and ``level_db``, the
+    speech's level at the (first) microphone (dB SPL)."""
 
     text: str
     confidence: float
     snr_db: float
     direction: float | None = None
+    level_db: float = -math.inf
 
     @property
     def words(self) -> int:
@@ -98,7 +100,7 @@ class SpeechRecognizer:
         from. Whether it is speech at all is judged after the enhancer, when there is one, has
         taken out what is not a household voice."""
         channels = np.stack([resampled(c, rate) for c in np.atleast_2d(samples)])
-        heard_snr = loudness(channels[0])[1]
+        heard_level, heard_snr = loudness(channels[0])
         x, steer = self._front(channels)
         direction = (None if steer is None or self.microphones is None
                      else voice_direction(steer, self.microphones))
@@ -106,10 +108,10 @@ class SpeechRecognizer:
             x = self.enhancer.enhance(x, self.mask_power(x))
         level, snr = loudness(x)
         if snr < self.cfg.min_snr_db or level < self.cfg.min_level_db:
-            return Transcript("", 0.0, heard_snr, direction)
+            return Transcript("", 0.0, heard_snr, direction, heard_level)
         text, confidence = self.engine.decode(x)
         return Transcript(text, min(max(confidence, 0.0), 1.0) if text else 0.0, heard_snr,
-                          direction)
+                          direction, heard_level)
 
     def _front(self, channels: np.ndarray) -> tuple[np.ndarray, Steering | None]:
         """The one channel decoded of ``channels`` (``(M, n)`` at 16 kHz; see
