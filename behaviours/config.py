@@ -250,6 +250,7 @@ class GazeConfig(StrictModel):
     min_confidence: float = Field(ge=0, le=1)
     away_deg: float = Field(gt=0, lt=180)
     within_s: float = Field(ge=0)
+    max_distance_m: float = Field(gt=0)
 
 
 class UnmadeConfig(StrictModel):

@@ -7,7 +7,9 @@ frame that takes in every bearing within ``bearing_tolerance_deg`` of the voice'
 microphones localised it). One of the people seen there spoke, and the facing model
 (perception/facing, run by Sense: ``facings``) read which way each looks: when every one
 of them, confidently, looks more than ``away_deg`` away from the robot, the line was for
-someone else, and the robot does not answer it. No one seen near the voice, anyone there
+someone else, and the robot does not answer it. Only people within ``max_distance_m`` are
+read: the facing model learnt people 0.8-5.5 m away (docs/facing.md), and a resident 8 m
+away, facing the robot, was read as looking away. No one seen near the voice, anyone there
 looking at the robot, or an unsure reading, and the words decide.
 """
 
@@ -48,15 +50,24 @@ class SpeakerGaze:
         return [box for box in people
                 if abs(wrap_angle(self._bearing(frame, *box.centre) - bearing)) <= tolerance]
 
-    def looks_away(self, bearing: float, frame: np.ndarray, people: list[Detection],
+    def looks_away(self, bearing: float, frame: np.ndarray, depth: np.ndarray | None,
+                   people: list[Detection],
                    facing: Callable[[Detection], Facing | None]) -> bool:
-        """Whether everyone seen in ``frame`` (with its person boxes ``people``, whose
-        ``facing`` Sense read) near the bearing of a voice, at least one, looks away from
-        the robot, confidently: whichever of them spoke did not speak to it."""
-        readings = [facing(box) for box in self.near_voice(bearing, frame, people)]
+        """Whether everyone seen in ``frame`` (with its depth image ``depth`` and person
+        boxes ``people``, whose ``facing`` Sense read) near the bearing of a voice and
+        within ``max_distance_m``, at least one, looks away from the robot, confidently:
+        whichever of them spoke did not speak to it."""
+        readings = [facing(box) for box in self.near_voice(bearing, frame, people)
+                    if self._within_reach(depth, box)]
         return bool(readings) and all(
             seen is not None and seen.confidence >= self.cfg.min_confidence
             and abs(math.degrees(seen.angle)) > self.cfg.away_deg for seen in readings)
+
+    def _within_reach(self, depth: np.ndarray | None, box: Detection) -> bool:
+        """Whether the person in ``box`` stands within ``max_distance_m`` (the facing
+        model's data went no further; a person not measured in the depth image is not)."""
+        reach = None if depth is None else self.range.distance(depth, box)
+        return reach is not None and reach <= self.cfg.max_distance_m
 
     def _bearing(self, frame: np.ndarray, col: float, row: float) -> float:
         """The world bearing (rad) of the pixel (``col``, ``row``) of ``frame``."""

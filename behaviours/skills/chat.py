@@ -63,8 +63,8 @@ class Converse(ContextBehaviour):
     asked for another action and has been said; otherwise RUNNING."""
 
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
-        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "detections", "facings",
-                                           "voice_started"),
+        super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "depth", "detections",
+                                           "facings", "voice_started"),
                          writes=("heard", "listening_to", "request"))
         self._busy_until = 0.0
         self._talking_since = 0.0       # when what it is saying began
@@ -112,7 +112,7 @@ class Converse(ContextBehaviour):
                 and self.gaze.covers(line.bearing, frame)):
             detections, facings = self.bb.detections, self.bb.facings
             people = people_in_view(self.ctx, detections)
-            return not self.gaze.looks_away(line.bearing, frame, people,
+            return not self.gaze.looks_away(line.bearing, frame, self.bb.depth, people,
                                             lambda box: facing_of(detections, facings, box))
         waited = self.now - self._turned_at >= self.ctx.config.listening.answer_wait_s
         return True if waited else None
