@@ -18,7 +18,7 @@ from core.signals import exit_status, signal_name, terminable
 DOMAINS = ["mind.policy.training.cli", "mind.preferences.evaluation.cli",
            "mind.preferences.cli",
            "dialogue.cli", "dialogue.style.training.cli", "dialogue.style.training.mood_cli",
-           "dialogue.chat.training.cli",
+           "dialogue.chat.training.cli", "dialogue.acts.training.cli",
            "dialogue.speech.training.cli",
            "perception.detector.training.cli",
            "perception.vqg.training.cli", "perception.facing.training.cli", "app.run_cli",

@@ -28,13 +28,13 @@ from core.errors import UserError
 from core.paths import WORLDS_DIR
 
 WORLDS = ("living_room", "nursing_home", "birthday_party", "low_battery_night",
-          "care_home_evening", "two_rooms")
+          "care_home_evening", "two_rooms", "day_room_morning")
 LONG_WORLD = "nursing_home"
 METRICS = ("rsr", "mood_positive_share", "lines_said", "lines_answered",
            "answer_latency_s_median", "lines_responded", "lines_answered_at_all",
            "lines_ignored", "voices_not_made_out", "voices_approached", "dont_know_answers",
            "find_people_tries", "find_people_found", "questions_asked", "questions_grounded",
-           "wall_s", "peak_rss_mb")
+           "companion_replies", "care_alerts", "wall_s", "peak_rss_mb")
 BEGIN, END = "<!-- bench household: begin -->", "<!-- bench household: end -->"
 
 
@@ -149,7 +149,9 @@ def table(summary: dict[str, Any], seeds: Sequence[int]) -> str:
             ("don't know", "dont_know_answers", 1, 1),
             ("find people tries", "find_people_tries", 1, 1),
             ("found", "find_people_found", 1, 1), ("questions", "questions_asked", 1, 1),
-            ("grounded", "questions_grounded", 1, 1), ("wall s", "wall_s", 0, 1),
+            ("grounded", "questions_grounded", 1, 1),
+            ("own replies", "companion_replies", 1, 1), ("care alerts", "care_alerts", 1, 1),
+            ("wall s", "wall_s", 0, 1),
             ("peak MB", "peak_rss_mb", 0, 1)]
     lines = ["| world | " + " | ".join(c[0] for c in cols) + " |",
              "| --- |" + " --- |" * len(cols)]

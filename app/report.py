@@ -213,7 +213,22 @@ def interaction_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
                                           for e in events if e["kind"] == "credited")),
         "choices_by_preference": sum(e["kind"] == "action" and e.get("reason") == "preference"
                                      for e in events),
+        **conversation_metrics(events),
     }
+
+
+def conversation_metrics(events: list[dict[str, Any]]) -> dict[str, Any]:
+    """What people shared and how the robot met it: the acts of the lines it answered,
+    its own replies to them, the feelings heard in them, and the care alerts raised, by
+    person and signal."""
+    said = [e for e in events if e["kind"] == "say" and e.get("act")]
+    alerts = [e for e in events if e["kind"] == "care_alert"]
+    return {"acts_answered": dict(Counter(e["act"] for e in said)),
+            "companion_replies": sum(e.get("route") == "companion" for e in said),
+            "feelings_heard": sum(e["kind"] == "emotion" and bool(e.get("heard"))
+                                  for e in events),
+            "care_alerts": len(alerts),
+            "care_alerts_by": dict(Counter(f"{e['person']} {e['care']}" for e in alerts))}
 
 
 def write_metrics(metrics: dict[str, Any], path: Path) -> None:

@@ -187,6 +187,7 @@ def build_run(scenario: Scenario, out: Path, options: RunOptions = RunOptions()
     ctx.snapshot, ctx.contain_faults = saver, True
     if options.adapt:
         ctx.memory, ctx.memory_path = household or Memory(scenario.name), memory
+        dialogue.memory = ctx.memory      # what people tell it, kept with their preferences
     profile = Profile() if options.profile else None
     if profile is not None:
         profile.wrap(policy, "q_values", "policy")

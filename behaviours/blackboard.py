@@ -26,6 +26,9 @@ KEYS = {
     "motivations": "np.ndarray (6,): eq. 3.4",
     "mood": "dict: value (eq. 3.6) and positive (bool)",
     "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
+    "line_emotion": "tuple(float, float) | None: the feeling of the last line answered, read "
+                    "from its words by the dialogue (+1 happy, -1 sad) and when; Sense takes it "
+                    "as the human's emotion",
     "action": "str | None: the running action (mind.personality.ACTIONS)",
     "relieving": "bool: the running skill is satisfying its drive now",
     "progress": "int: homeostasis steps the running skill has been relieving",
@@ -80,7 +83,7 @@ def initial_values(homeostasis: Homeostasis, initial_drives: Mapping[str, float]
     values = {
         "stimuli": stimuli, "drives": drives,
         **motivations_and_mood(homeostasis, drives, stimuli, emotion), "emotion": emotion,
-        "action": None, "relieving": False, "progress": 0, "act_status": None,
+        "line_emotion": None, "action": None, "relieving": False, "progress": 0, "act_status": None,
         "frame": None, "depth": None, "frame_t": -np.inf, "detections": [], "faces": [],
         "facings": [], "voices": [], "heard": [], "voice_started": -np.inf,
         "feedback": [], "person": None, "must_finish": False, "request": None,

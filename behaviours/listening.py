@@ -25,8 +25,11 @@ from behaviours.context import Context
 from behaviours.skill import ContextBehaviour
 from dialogue.manager import Reply
 from dialogue.qa.base import Action
+from mind.preferences.memory import save_memory
 from robot.geometry import wrap_angle
 from robot.percepts import HeardLine
+
+LINE_EMOTION = {"positive": 1.0, "negative": -1.0}   # a line's feeling as the human's emotion
 
 
 def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardLine]:
@@ -61,10 +64,15 @@ def reply_to(behaviour: ContextBehaviour, said: HeardLine, positive: bool,
     for again, and its speaker hears the request; when its speech hardly stood over the
     noise (``listening.closer_below_snr_db``), the robot asks them to come closer too. A
     voice of which no words were made out gets :func:`not_made_out` (``can_move``: the
-    robot may go over to its speaker). The reply, and how long saying it takes (s)."""
+    robot may go over to its speaker). A care signal in the line is a ``care_alert`` event
+    (who, what, the line); the feeling the line shares goes on ``line_emotion``, which
+    Sense takes as the human's emotion (eq. 3.6); what the speaker told about themselves
+    is kept in the household memory (saved at once). Each person has their own
+    conversation. The reply, and how long saying it takes (s)."""
     ctx, mood = behaviour.ctx, "positive" if positive else "negative"
     cfg = ctx.config.listening
-    reply = (ctx.dialogue.respond(said.text, mood, confidence=said.confidence)
+    reply = (ctx.dialogue.respond(said.text, mood, ctx.dialogue.context_of(said.person),
+                                  confidence=said.confidence, person=said.person)
              if said.made_out else not_made_out(cfg, said, can_move))
     text = f"{reply.text} {promise}" if promise and reply.action is not None else reply.text
     if reply.route == "say_again":
@@ -73,9 +81,18 @@ def reply_to(behaviour: ContextBehaviour, said: HeardLine, positive: bool,
         ctx.ask_again(said.line, closer)
     seconds = ctx.speaker.say(text, behaviour=behaviour.name, to=said.person, line=said.line,
                               in_reply_to=said.text, route=reply.route, found=reply.found,
-                              mood=mood)
+                              mood=mood, act=reply.act)
     if reply.tablet:
         behaviour.emit("tablet", page=reply.tablet, line=said.line)
+    if reply.care:
+        behaviour.emit("care_alert", person=said.person, care=reply.care, line=said.line,
+                       text=said.text)
+    if reply.emotion:
+        behaviour.bb.line_emotion = (LINE_EMOTION[reply.emotion], behaviour.now)
+    if reply.remembered:
+        behaviour.emit("remembered", person=said.person, kinds=list(reply.remembered))
+        if ctx.memory is not None and ctx.memory_path is not None:
+            save_memory(ctx.memory, ctx.memory_path)
     return reply, seconds
 
 
@@ -88,7 +105,7 @@ class Promise(ContextBehaviour):
 
     def __init__(self, ctx: Context, name: str = "Promise") -> None:
         super().__init__(name, ctx, reads=("must_finish", "action", "mood"),
-                         writes=("heard", "request"))
+                         writes=("heard", "request", "line_emotion"))
         self._busy_until = -math.inf
 
     def update(self) -> Status:

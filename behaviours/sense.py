@@ -73,7 +73,7 @@ class Sense(ContextBehaviour):
 
     def __init__(self, ctx: Context, name: str = "Sense") -> None:
         super().__init__(name, ctx, reads=("tracking",),
-                         writes=("stimuli", "emotion", "frame", "depth", "frame_t",
+                         writes=("stimuli", "emotion", "line_emotion", "frame", "depth", "frame_t",
                                  "detections", "faces", "facings", "voices", "heard",
                                  "voice_started", "feedback", "person"))
         self._encouraged_until = -np.inf
@@ -107,8 +107,18 @@ class Sense(ContextBehaviour):
                 self.bb.person = (ev.person, self.now)
                 self.emit("feedback", person=ev.person, value=ev.value, about=ev.about)
         self.ctx.inbox.clear()
+        if self.bb.line_emotion is not None:
+            self._felt(*self.bb.line_emotion)
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
+
+    def _felt(self, value: float, since: float) -> None:
+        """The feeling of the line just answered, as the human's emotion (eq. 3.6) for
+        ``emotion_hold_s``, as a face's would be."""
+        self.bb.line_emotion = None
+        self.emit("emotion", emotion="happy" if value > 0 else "sad", heard=True)
+        self.bb.emotion = value
+        self._emotion_until = max(self._emotion_until, since + self.ctx.config.emotion_hold_s)
 
     def _sound(self, block: Sound) -> None:
         """A block of the microphones' sound: through the voice-activity detector, whose

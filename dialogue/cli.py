@@ -15,6 +15,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any, TextIO
 
+from core.cli_args import integer
 from core.paths import WORLDS_DIR
 from core.signals import Terminated
 from dialogue.intent import HELDOUT_FILE, MODES
@@ -79,6 +80,18 @@ def add_eval(sub: argparse._SubParsersAction) -> None:
                    help="questions file (kind<TAB>question<TAB>keyword|keyword; default: "
                         "dialogue/data/knowledge_questions.tsv)")
     k.set_defaults(func=run_eval_knowledge)
+    c = sub.add_parser("conversation", help="acts, fitting replies, care signals, latency",
+                       description="Answer the held-out conversation lines "
+                       "(dialogue/data/conversation_test.tsv) and score act accuracy, "
+                       "fitting replies (the rubric of docs/conversation.md), mood openings "
+                       "that contradict the line, non sequiturs (MiniLM relevance), care "
+                       "recall and false alerts, and reply latency on one thread.")
+    c.add_argument("--lines", type=Path, help="held-out lines (default: the shipped set)")
+    c.add_argument("--config", type=Path, help="YAML overriding config/acts.yaml")
+    c.add_argument("--examples", type=integer(0, 1000), default=12,
+                   help="examples to print, the robot's replies before and after")
+    c.add_argument("--json", action="store_true", help="print one JSON object")
+    c.set_defaults(func=run_eval_conversation)
 
 
 def _print_reply(reply: Any, out: TextIO) -> None:
@@ -316,3 +329,11 @@ def chat_model_metrics() -> dict[str, float]:
     return {k: metrics[k] for k in ("chat_perplexity", "unigram_perplexity", "distinct_1",
                                     "distinct_2")}
 
+
+def run_eval_conversation(args: argparse.Namespace) -> int:
+    """Handler of ``companion eval conversation``."""
+    from dialogue.conversation_eval import evaluate, print_report
+
+    result = evaluate(args.lines, args.config, args.examples)
+    print(json.dumps(result, indent=2) if args.json else print_report(result))
+    return 0 if all(result["meets_bars"].values()) else 1

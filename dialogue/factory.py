@@ -17,6 +17,9 @@ from typing import Any
 
 import numpy as np
 
+from dialogue.acts.config import load_acts_config
+from dialogue.acts.model import HEADS_FILE
+from dialogue.acts.replies import CompanionTalk
 from dialogue.chat.config import DEFAULT_CHAT_MODEL
 from dialogue.chat.model import ChitChatModel
 from dialogue.manager import DialogueManager
@@ -58,6 +61,13 @@ def shipped_style() -> MoodStyler | None:
     return MoodStyler.load() if DEFAULT_STYLE_MODEL.is_file() else None
 
 
+def shipped_talk(staff: bool = False) -> CompanionTalk | None:
+    """The robot's replies to what people share (``config/acts.yaml``) with the shipped act
+    model, or None while none has been trained; ``staff``: care staff are there to call."""
+    folder = load_acts_config().resolved_model_dir()
+    return CompanionTalk.load(staff) if (folder / HEADS_FILE).is_file() else None
+
+
 def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir: Path,
                        take_photo: Callable[[], str | Path] | None = None,
                        style: Any = "shipped", songs: Songs | None = None) -> DialogueManager:
@@ -73,7 +83,8 @@ def household_dialogue(scenario: Scenario, elapsed: Callable[[], float], out_dir
     style = shipped_style() if style == "shipped" else style
     return DialogueManager(qa, chitchat=shipped_chitchat(), style=style,
                            on_reply=reply_logger(out_dir / "dialogue.jsonl"),
-                           min_confidence=load_speech_config().acting_confidence)
+                           min_confidence=load_speech_config().acting_confidence,
+                           talk=shipped_talk(scenario.staff))
 
 
 def chat_session(scenario_path: Path | None, default_scenario: Path, weather_path: Path | None,
@@ -85,9 +96,10 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
     ``out``. Every file is checked before a model is loaded: one that cannot be read raises a
     :class:`~core.errors.UserError` naming it."""
     drives, personality, household, scenario_weather = None, None, None, None
+    staff = False
     if scenario_path is not None:
         scenario = load_scenario(scenario_path)
-        scenario_weather = scenario.weather
+        scenario_weather, staff = scenario.weather, scenario.staff
         drives, personality = scenario.robot.drives.model_dump(), scenario.personality
         household = plan_from_scenario(scenario)
     elif default_scenario.is_file():
@@ -104,7 +116,8 @@ def chat_session(scenario_path: Path | None, default_scenario: Path, weather_pat
                take_photo=scenario_camera(scenario_path or default_scenario, out))
     manager = DialogueManager(qa, chitchat=shipped_chitchat(), style=shipped_style(),
                               on_reply=reply_logger(out / "dialogue.jsonl"),
-                              min_confidence=load_speech_config().acting_confidence)
+                              min_confidence=load_speech_config().acting_confidence,
+                              talk=shipped_talk(staff))
     return manager, drives, personality
 
 

@@ -202,6 +202,7 @@ class Scenario(StrictModel):
     camera_rate: float = Field(default=1.0, gt=0, le=30)
     time_of_day: str = Field(default="10:00", pattern=r"^([01]\d|2[0-3]):[0-5]\d$")
     occasion: str = "quiet_afternoon"   # what is going on (docs/scenarios.md)
+    staff: bool = False   # care staff to call (a care home); else the robot turns to family
     personality: Path | None = None
     lighting: Lighting = Lighting()
     rooms: tuple[Room, ...] = Field(min_length=1)

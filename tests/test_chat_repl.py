@@ -59,7 +59,7 @@ def test_repl_under_a_pseudo_terminal(tmp_path: Path) -> None:
         out = term.until("you> ")
         assert "robot [map]" in out and "tablet: " in out and ".png" in out
         os.write(master, b"\x01\x02 how are you? \x7f\n")
-        assert "robot [chitchat]" in term.until("you> ")
+        assert "robot [companion]: Hello. How are you" in term.until("you> ")   # its own greeting
         os.write(master, b"/quit\n")
         assert proc.wait(timeout=30) == 0
     finally:
@@ -77,7 +77,8 @@ def test_json_mode_one_object_per_line(tmp_path: Path) -> None:
     assert [r["route"] for r in rows] == ["time", "empty", "information",
                                           "input_not_understood"]  # "yyyy..." is no word
     assert all(set(r) == {"input", "text", "route", "action", "tablet", "mood",
-                                 "unstyled", "found"} for r in rows)
+                                 "unstyled", "found", "act", "emotion", "care", "remembered"}
+               for r in rows)
     assert [r["found"] for r in rows] == [True, False, True, False]
     assert rows[0]["mood"] == "positive" and rows[2]["tablet"].startswith("https://")
 

@@ -21,6 +21,7 @@ from mind.homeostasis import Homeostasis
 from mind.personality import DRIVES, MOTIVATIONS
 
 REASON_KINDS = ("action", "preempted", "credited")   # events that explain the current action
+CARE_SHOWN = 5                                       # the latest care alerts on the page
 BOX_COLOUR = (255, 200, 0)   # RGB
 
 
@@ -85,6 +86,7 @@ class MindView:
         self._ranges = ranges(ctx.homeostasis)
         self._seen = 0                      # events already looked through
         self._latest: dict[str, dict[str, Any]] = {}
+        self._care: list[dict[str, Any]] = []   # the latest care alerts
         self._frame_t = None
         self._frame: str | None = None
         self._next = 0.0                    # wall time of the next snapshot
@@ -109,6 +111,9 @@ class MindView:
         for e in events[self._seen:]:
             if e["kind"] in REASON_KINDS:
                 self._latest[e["kind"]] = e
+            elif e["kind"] == "care_alert":
+                self._care = [*self._care, {k: e.get(k) for k in ("t", "person", "care", "text")}
+                              ][-CARE_SHOWN:]
         self._seen = len(events)
         mood = store.get("/mood") or {}
         frame_t = store.get("/frame_t")
@@ -134,6 +139,7 @@ class MindView:
             "detections": [{"cls": d.cls, "conf": round(d.conf, 3)}
                            for d in store.get("/detections") or []],
             "dialogue": self.replies.last(self.cfg.dialogue_lines),
+            "care_alerts": self._care,
         }
 
     def _why(self) -> dict[str, Any]:

@@ -65,7 +65,7 @@ class Converse(ContextBehaviour):
     def __init__(self, ctx: Context, name: str = "Converse") -> None:
         super().__init__(name, ctx, reads=("mood", "frame", "frame_t", "depth", "detections",
                                            "facings", "voice_started"),
-                         writes=("heard", "listening_to", "request"))
+                         writes=("heard", "listening_to", "request", "line_emotion"))
         self._busy_until = 0.0
         self._talking_since = 0.0       # when what it is saying began
         self._turned_at: float | None = None   # when the robot began turning to the voice

@@ -10,12 +10,15 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     """Register ``memory``."""
     p = sub.add_parser("memory", help="show or reset what a household taught the robot",
                        description="A household's memory file (docs/feedback.md): each "
-                       "person's learnt preference for each action.")
+                       "person's learnt preference for each action, and what each told about "
+                       "themselves.")
     what = p.add_subparsers(dest="memory_command", required=True, metavar="WHAT")
-    show = what.add_parser("show", help="print each person's preferences")
+    show = what.add_parser("show", help="print what each person told the robot and their "
+                           "preferences")
     show.add_argument("file", type=Path)
     show.set_defaults(func=run_show)
-    reset = what.add_parser("reset", help="forget every preference (the file stays, empty)")
+    reset = what.add_parser("reset", help="forget every preference and everything told (the file "
+                            "stays, empty)")
     reset.add_argument("file", type=Path)
     reset.set_defaults(func=run_reset)
 
@@ -29,6 +32,11 @@ def run_show(args: argparse.Namespace) -> int:
         raise MemoryFileError(f"{args.file}: no such memory file")
     memory = load_memory(args.file, "")
     print(f"household: {memory.household}")
+    for who, facts in sorted(memory.facts.items()):
+        for fact in facts:
+            when = f" {fact.when}" if fact.when else ""
+            asked = " (asked)" if fact.asked else ""
+            print(f"{who} told: {fact.kind}: {fact.said}{when}{asked}")
     if not memory.prefs:
         print("no feedback yet")
         return 0

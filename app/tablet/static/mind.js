@@ -63,6 +63,10 @@ function render(s) {
   log.replaceChildren(...(s.dialogue || []).map(r => el("li", {},
     el("span", {class: "meta"}, `${r.t} s `), el("b", {}, r.input), " → ", r.text,
     el("span", {class: "meta"}, ` [${r.route}]`))));
+  const care = document.getElementById("care");
+  care.replaceChildren(...(s.care_alerts || []).map(a => el("li", {class: "alert"},
+    el("span", {class: "meta"}, `${a.t} s `), el("b", {}, `${a.person}: ${a.care}`),
+    ` "${a.text}"`)));
   document.body.dataset.updates = String(Number(document.body.dataset.updates) + 1);
   document.body.dataset.t = String(s.t || 0);
 }
