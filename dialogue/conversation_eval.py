@@ -134,8 +134,8 @@ def evaluate(path: Path | None = None, config: Path | None = None,
     lines = load_heldout(path or HELDOUT_FILE)
     judge = SentenceEmbedder()
     counts: Counter[str] = Counter()
-    misses: list[dict[str, Any]] = []
     replies: dict[str, list[str]] = {"before": [], **{m: [] for m in MOODS}}
+    judged: dict[str, list[dict[str, Any]]] = {m: [] for m in MOODS}  # rubric 1-3, per reply
     times: list[float] = []
     with torch_threads(1), _managers(cfg) as (before, after, talk):
         for line in lines:
@@ -155,18 +155,24 @@ def evaluate(path: Path | None = None, config: Path | None = None,
                 times.append(time.perf_counter() - start)
                 replies[mood].append(reply.text)
                 clash = contradiction(reply.text, cfg.emotion_of(line.act), mood_cfg)
-                counts["contradictions"] += clash is not None
                 shared_right = (line.act in CHATTY and reply.act == line.act) or (
                     reply.route == "companion" and reply.act == line.act)
-                fits = shared_right and names_topic(line, reply.text, talk) and clash is None
-                counts[f"fits_{mood}"] += fits
-                if not fits and mood == "positive":
-                    misses.append({"line": line.text, "act": line.act, "read": reply.act,
-                                   "route": reply.route, "reply": reply.text,
-                                   "contradiction": clash})
+                judged[mood].append({"line": line.text, "act": line.act, "read": reply.act,
+                                     "route": reply.route, "reply": reply.text,
+                                     "contradiction": clash, "answers_act": shared_right,
+                                     "names_topic": names_topic(line, reply.text, talk)})
         cosines = {k: judge.cosines([li.text for li in lines], v) for k, v in replies.items()}
     n = len(lines)
     non_sequiturs = {k: sum(c < cfg.relevance.min_cosine for c in v) for k, v in cosines.items()}
+    for mood in MOODS:
+        for row, cosine in zip(judged[mood], cosines[mood], strict=True):
+            row["relevance"] = round(cosine, 3)
+            row["non_sequitur"] = cosine < cfg.relevance.min_cosine
+            row["fits"] = (row["answers_act"] and row["names_topic"]
+                           and row["contradiction"] is None and not row["non_sequitur"])
+            counts[f"fits_{mood}"] += row["fits"]
+            counts["contradictions"] += row["contradiction"] is not None
+    misses = [row for row in judged["positive"] if not row["fits"]]
     result: dict[str, Any] = {
         "n": n, "act_accuracy": counts["act_right"] / n,
         "fitting": counts["fits_positive"] / n, "fitting_gloomy": counts["fits_negative"] / n,
@@ -219,5 +225,8 @@ def print_report(r: dict[str, Any]) -> str:
         out += [f"  {e['line']}", f"    before: {e['before']}", f"    after:  {e['after']}"]
     out += ["", f"replies that do not fit ({len(r['misses'])}):"]
     out += [f"  [{m['act']} read {m['read']} via {m['route']}] {m['line']!r} -> {m['reply']!r}"
-            + (f" ({m['contradiction']})" if m["contradiction"] else "") for m in r["misses"]]
+            + (f" ({m['contradiction']})" if m["contradiction"] else "")
+            + ("" if m["names_topic"] else " (topic not named)")
+            + (f" (non sequitur: {m['relevance']})" if m["non_sequitur"] else "")
+            for m in r["misses"]]
     return "\n".join(out)

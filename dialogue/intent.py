@@ -37,7 +37,8 @@ MODES = ("auto", "qa", CHITCHAT, *CATEGORIES)
 CUE_BONUS = 0.4
 PLACE_PREPOSITIONS = frozenset({"in", "for", "at", "to", "near"})
 CUES = {  # the thesis's zeta: words that point at one category
-    "time": r"\bwhat time\b|\bthe time\b|\btime is it\b|\blocal time\b|\bo ?clock\b|\bhour\b",
+    "time": r"\bwhat time\b|\bthe time\b|\btime is it\b|\blocal time\b|\bo ?clock\b|\bhour\b"
+            r"|\bwhat day is it\b|\bwhat(?:'s| is) the date\b|\bwhat date is it\b",
     "weather": r"\bweather\b|\bforecast\b|\btemperature\b|\brain(?:ing|y)?\b|\bsnow(?:ing)?\b"
                r"|\bsunny\b|\bumbrella\b|\bwindy\b|\bdegrees\b|\bhumid(?:ity)?\b|\bstorms?\b"
                r"|\bfog(?:gy)?\b",

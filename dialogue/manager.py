@@ -186,7 +186,7 @@ class DialogueManager:
             reply = Reply("Sorry, something went wrong while I was thinking about that.",
                           "error", mood=mood, found=False)
         ctx.history.append((said, reply.text))
-        record = {"input": said, **reply.to_dict()}
+        record = {"input": said, **reply.to_dict(), "person": person}
         log.info("reply %s", record)
         if self.on_reply:
             self.on_reply(record)
@@ -303,10 +303,13 @@ class DialogueManager:
         """The robot's authored reply to what ``said`` shares: always for a care signal;
         else unless the act model read a question, or the router's cue words send the line
         to a QA category and it asks something ("What's the weather like for Sunday?") or
-        shares nothing ("Sing me a song, love"), or the tablet chose the mode."""
+        shares nothing ("Sing me a song, love"), or the tablet chose the mode. Asking the
+        day or the time is answered, with no alert, however confused it sounds."""
+        self._told = None
         if self.talk is None or reading is None or intent.source == "mode":
             return None
-        self._told = None
+        if reading.care == "confused" and route == "time" and ASKS.search(said):
+            return None                                   # "what day is it?": it is told
         asks = route != CHITCHAT and intent.cues and (
             ASKS.search(said) or reading.act not in SHARING)   # "sing me a song, love"
         if self.talk.model.alert(reading) is None and (reading.act == QUESTION or asks):

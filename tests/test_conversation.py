@@ -117,7 +117,7 @@ def test_asked_for_a_story_the_robot_tells_one(manager: DialogueManager) -> None
 
 def test_the_speaker_is_heard_back_in_their_own_words() -> None:
     assert reflect("My hip's playing up again") == "your hip's playing up again"
-    assert reflect("I was a teacher, you know") == "you were a teacher"
+    assert reflect("I was a teacher. Forty years of it!") == "you were a teacher"
     assert reflect("the weather is nice") == ""
 
 
@@ -192,3 +192,16 @@ def test_in_the_day_room_grief_is_met_and_pain_raises_a_care_alert(tmp_path: Pat
     metrics = interaction_metrics(events)
     assert metrics["care_alerts_by"] == {"Walter pain": 1}
     assert metrics["feelings_heard"] >= 2          # her grief and his pain, read from the words
+
+
+def test_memory_show_lists_what_each_person_told(talk: CompanionTalk, tmp_path: Path,
+                                                 capsys) -> None:
+    from app.cli import main
+
+    file = tmp_path / "memory.json"
+    manager = _household(tmp_path, talk, file)
+    manager.respond("I used to be a train driver, you know.", "positive",
+                    manager.context_of("Albert"), person="Albert")
+    save_memory(manager.memory, file)
+    assert main(["memory", "show", str(file)]) == 0
+    assert "Albert told: job: a train driver" in capsys.readouterr().out

@@ -66,7 +66,8 @@ def tap(manager: DialogueManager, log: ReplyLog, files: FileRegistry,
     def record(reply: dict[str, Any]) -> None:
         if before is not None:
             before(reply)
-        card = card_for(reply, manager.qa, manager.context.last_topic, files)
+        topic = manager.context_of(reply.get("person")).last_topic
+        card = card_for(reply, manager.qa, topic, files)
         item = log.add({**reply, "t": round(clock(), 2), "card": card})
         if on_record is not None:
             on_record(item)

@@ -110,7 +110,7 @@ class RunTablet:
         person = self.config.person
         yaw = sim.robot.base.pose()[2]          # typed at the chest tablet: the words as given
         line = HeardLine(sim.line_number(), sim.t, person, request.text, "robot", yaw)
-        ctx.dialogue.context.mode = request.mode
+        ctx.dialogue.context_of(person).mode = request.mode
         self._mode_line = clean_input(request.text) if request.mode != "auto" else None
         ctx.events.emit("tablet_line", line=line.line, text=request.text, mode=request.mode)
         ctx.robot.tablet.touch(line)
@@ -124,5 +124,5 @@ class RunTablet:
         """Once the tablet line chosen in a mode is answered, the robot routes by itself
         again (the button chose the kind of that one conversation turn)."""
         if self._mode_line is not None and record["input"] == self._mode_line:
-            self.run.ctx.dialogue.context.mode = "auto"
+            self.run.ctx.dialogue.context_of(self.config.person).mode = "auto"
             self._mode_line = None

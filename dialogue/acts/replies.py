@@ -29,7 +29,8 @@ PERSON_KINDS = ("female", "male", "people")
 STORY = re.compile(r"\b(?:story|stories|tale|tales)\b", re.I)
 JOKE = re.compile(r"\b(?:joke|jokes|something funny|make me laugh)\b", re.I)
 NIGHT = re.compile(r"\b(?:bed|night|sleep|nap|turning in|lie down|kip)\b", re.I)
-ASKS = re.compile(r"\?|^\W*(?:what|who|where|when|why|which|is it|are you|can you|could you"
+ASKS = re.compile(r"\?|^\W*(?:(?:robot|pip|love|dear|well|so|oh|and)\W+)?"
+                  r"(?:what|who|where|when|why|which|is it|are you|can you|could you"
                   r"|will you|would you|do you|tell me|show me"
                   r"|how (?:do|does|did|is|are|can|many|much|old|long|far))\b", re.I)
 

@@ -19,8 +19,9 @@ from dialogue.qa.text import STOPWORDS, word_set
 from dialogue.qa.wordnet import WordNet
 
 WORD = re.compile(r"[A-Za-z][A-Za-z'-]*")
-JOB = re.compile(r"\bi (?:was|used to be|worked as|trained as|started as) (an? [a-z]+)\b", re.I)
-CLAUSE = re.compile(r"[,.;:!?]| - | but | because | and then ", re.I)
+JOB = re.compile(r"\bi (?:was|used to be|worked as|trained as|started as) (an?) ([a-z]+)"
+                 r"(?: ([a-z]+))?", re.I)
+CLAUSE = re.compile(r"[.;:!?]| - | but | because | and then ", re.I)
 OWNERS = {"my": "your", "our": "your", "me": "your"}   # "me mam" is "my mum"
 THING_OWNERS = word_set("my our")                      # "make me sell the house"
 FEELS = word_set("hurts hurt aches ache is are feels feel was were pain pains killing sore")
@@ -39,7 +40,7 @@ REFLECT = {"i": "you", "i'm": "you're", "im": "you're", "i've": "you've", "ive":
            "i'd": "you'd", "i'll": "you'll", "my": "your", "me": "you", "mine": "yours",
            "myself": "yourself", "our": "your", "ours": "yours", "we": "you",
            "we're": "you're", "we've": "you've", "us": "you", "am": "are"}
-ECHO_WORDS = 12
+ECHO_WORDS = 14
 
 
 def reflect(text: str) -> str:
@@ -127,8 +128,11 @@ class TopicFinder:
 
     def _topic(self, raw: list[str], words: list[str], day: str, when: str) -> Topic:
         job = JOB.search(" ".join(raw))
-        if job and self._noun(job.group(1).split()[1].lower()):
-            return Topic(job.group(1).split()[1].lower(), "job", job.group(1).lower())
+        if job and self._noun(job.group(2).lower()):
+            article, head, more = (g.lower() if g else "" for g in job.groups())
+            if more and self._only_noun(more):             # "a train driver"
+                head = f"{head} {more}"
+            return Topic(head.split()[-1], "job", f"{article} {head}")
         for i, w in enumerate(words):
             kind = self.kinds.get(w)
             if kind in ("female", "male", "people", "pet") or (
@@ -147,12 +151,13 @@ class TopicFinder:
                 owner = "your" if before in OWNERS else before if before in ("a", "an") \
                     else "the"
                 return Topic(w, "thing", f"{owner} {self._phrase(words, i)}")
-        if day:
-            return Topic(day, "time", day.title() if when.startswith(" on") else day)
         noun = next((i for i, w in enumerate(words) if self._only_noun(w)
                      and w not in self.kinds), None)
-        return NO_TOPIC if noun is None else \
-            Topic(words[noun], "thing", f"the {self._phrase(words, noun)}")
+        if noun is not None:                      # what is planned before when
+            return Topic(words[noun], "thing", f"the {self._phrase(words, noun)}")
+        if day:
+            return Topic(day, "time", day.title() if when.startswith(" on") else day)
+        return NO_TOPIC
 
     def _phrase(self, words: list[str], i: int) -> str:
         """The noun at ``i`` with the nouns right after it and an "of" noun ("cup of tea",
