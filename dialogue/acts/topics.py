@@ -36,6 +36,8 @@ february march april may june july august september october november december"""
 NOT_JOBS = word_set("girl boy child kid lad lass teenager baby youngster")  # "when I was a girl"
 FILLERS = word_set("well oh um uh er erm ah so now look honestly you know")
 FIRST_PERSON = word_set("i i'm im i've ive i'd i'll my me our we we're we've")
+STARTERS = word_set("""the a an this that these those everything everyone everybody nobody
+it's there's it there his her their he she he's she's they they're""")  # sentences
 REFLECT = {"i": "you", "i'm": "you're", "im": "you're", "i've": "you've", "ive": "you've",
            "i'd": "you'd", "i'll": "you'll", "my": "your", "me": "you", "mine": "yours",
            "myself": "yourself", "our": "your", "ours": "yours", "we": "you",
@@ -45,25 +47,37 @@ ECHO_WORDS = 14
 
 def reflect(text: str) -> str:
     """The first clause of ``text`` said back to its speaker ("I fell in the bathroom" ->
-    "you fell in the bathroom"), or "" when it does not start with the speaker ("I", "my",
-    "we") or is shorter than three words or longer than ``ECHO_WORDS``."""
+    "you fell in the bathroom"), or "" when it neither starts with the speaker ("I", "my",
+    "we") nor is a sentence about them ("the doctor says my results are clear"), or is
+    shorter than three words or longer than ``ECHO_WORDS``."""
     clause = CLAUSE.split(text.replace("\u2019", "'"), maxsplit=1)[0].split()
     while clause and clause[0].lower().strip("'") in FILLERS:
         clause = clause[1:]
-    if not 3 <= len(clause) <= ECHO_WORDS or clause[0].lower() not in FIRST_PERSON:
+    first = clause[0].lower() if clause else ""
+    starts = first in FIRST_PERSON or (first in STARTERS and any(
+        w.lower().strip("'") in FIRST_PERSON for w in clause))
+    if not 3 <= len(clause) <= ECHO_WORDS or not starts:
         return ""
     out = []
-    for i, w in enumerate(clause):
+    for i, said in enumerate(clause):
+        w = said.rstrip(",")
         low = w.lower()
-        if low == "was" and i and clause[i - 1].lower() in ("i", "we"):
-            out.append("were")
-        elif low == "me" and i == 0:
-            out.append("your")                  # "me knee's swollen"
-        elif low == "mine" and i and clause[i - 1].lower() in ARTICLES:
-            out.append(w)                       # "down the mine"
-        else:
-            out.append(REFLECT.get(low, w if w[:1].isupper() and i else low))
+        if w != said:
+            out.append(reflect_word(clause, i, w, low) + ",")
+            continue
+        out.append(reflect_word(clause, i, w, low))
     return " ".join(out)
+
+
+def reflect_word(clause: list[str], i: int, w: str, low: str) -> str:
+    """The word ``w`` (``low`` in lower case) at ``i`` of ``clause``, said back."""
+    if low == "was" and i and clause[i - 1].lower() in ("i", "we"):
+        return "were"
+    if low == "me" and i == 0:
+        return "your"                           # "me knee's swollen"
+    if low == "mine" and i and clause[i - 1].lower() in ARTICLES:
+        return w                                # "down the mine"
+    return REFLECT.get(low, w if w[:1].isupper() and i else low)
 
 
 @dataclass(frozen=True)
