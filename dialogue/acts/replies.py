@@ -28,7 +28,8 @@ FORGET = re.compile(r"\bforget (?:that|it|what i (?:said|told you))\b|\bdon't re
 PERSON_KINDS = ("female", "male", "people")
 STORY = re.compile(r"\b(?:story|stories|tale|tales)\b", re.I)
 JOKE = re.compile(r"\b(?:joke|jokes|something funny|make me laugh)\b", re.I)
-NIGHT = re.compile(r"\b(?:bed|night|sleep|nap|turning in|lie down|kip)\b", re.I)
+NIGHT = re.compile(r"\b(?:bed|night|goodnight|nighty night|sleep|nap|turning in|lie down"
+                   r"|kip)\b", re.I)
 ASKS = re.compile(r"\?|^\W*(?:(?:robot|pip|love|dear|well|so|oh|and)\W+)?"
                   r"(?:what|who|where|when|why|which|is it|are you|can you|could you"
                   r"|will you|would you|do you|tell me|show me"

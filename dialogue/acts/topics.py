@@ -43,6 +43,7 @@ REFLECT = {"i": "you", "i'm": "you're", "im": "you're", "i've": "you've", "ive":
            "myself": "yourself", "our": "your", "ours": "yours", "we": "you",
            "we're": "you're", "we've": "you've", "us": "you", "am": "are"}
 ECHO_WORDS = 14
+TAIL_WORDS = 3   # a last part after a comma this short is an aside, not said back
 
 
 def reflect(text: str) -> str:
@@ -50,7 +51,11 @@ def reflect(text: str) -> str:
     "you fell in the bathroom"), or "" when it neither starts with the speaker ("I", "my",
     "we") nor is a sentence about them ("the doctor says my results are clear"), or is
     shorter than three words or longer than ``ECHO_WORDS``."""
-    clause = CLAUSE.split(text.replace("\u2019", "'"), maxsplit=1)[0].split()
+    first = CLAUSE.split(text.replace("\u2019", "'"), maxsplit=1)[0]
+    head, comma, tail = first.rpartition(",")
+    if comma and len(tail.split()) <= TAIL_WORDS:
+        first = head                           # "..., see you later", "..., love"
+    clause = first.split()
     while clause and clause[0].lower().strip("'") in FILLERS:
         clause = clause[1:]
     first = clause[0].lower() if clause else ""
