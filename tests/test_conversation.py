@@ -205,3 +205,29 @@ def test_memory_show_lists_what_each_person_told(talk: CompanionTalk, tmp_path: 
     save_memory(manager.memory, file)
     assert main(["memory", "show", str(file)]) == 0
     assert "Albert told: job: a train driver" in capsys.readouterr().out
+
+
+def test_train_acts_fits_heads_that_the_robot_loads(tmp_path: Path) -> None:
+    """`companion train acts --keep-encoder` on a small set of lines (the shipped encoder
+    copied beside it): the heads and their figures are written, and the robot reads with them."""
+    import shutil
+
+    from app.cli import main
+    from dialogue.acts.model import ActModel
+
+    shipped = load_acts_config().resolved_model_dir()
+    for name in ("encoder.onnx", "tokenizer.json"):
+        shutil.copy(shipped / name, tmp_path / name)
+    rows = load_act_lines(DATA / "acts_train.tsv")
+    small = [r for act in ("loss", "unwell", "greeting") for r in
+             [r for r in rows if r[0] == act][:20]]
+    lines = tmp_path / "lines.tsv"
+    lines.write_text("".join(f"{a}\t{c}\t{t}\n" for a, c, t in small))
+    config = tmp_path / "acts.yaml"
+    config.write_text(f"training:\n  training_file: {lines}\n")
+    assert main(["train", "acts", "--keep-encoder", "--out", str(tmp_path),
+                 "--config", str(config)]) == 0
+    cfg = load_acts_config(config).model_copy(update={"model_dir": tmp_path})
+    model = ActModel.load(cfg)
+    assert set(model.acts.labels) == {"loss", "unwell", "greeting", "question"}
+    assert model.read("good morning to you").act == "greeting"
