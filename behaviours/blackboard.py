@@ -26,8 +26,8 @@ KEYS = {
     "motivations": "np.ndarray (6,): eq. 3.4",
     "mood": "dict: value (eq. 3.6) and positive (bool)",
     "emotion": "float: the human's shown emotion, +1 happy, -1 sad, 0 none",
-    "line_emotion": "tuple(float, float) | None: the feeling of the last line answered, read "
-                    "from its words by the dialogue (+1 happy, -1 sad) and when; Sense takes it "
+    "line_emotion": "tuple(str, float) | None: the feeling of the last line answered, read "
+                    "from its words by the dialogue (happy or sad) and when; Sense takes it "
                     "as the human's emotion",
     "action": "str | None: the running action (mind.personality.ACTIONS)",
     "relieving": "bool: the running skill is satisfying its drive now",

@@ -29,7 +29,7 @@ from mind.preferences.memory import save_memory
 from robot.geometry import wrap_angle
 from robot.percepts import HeardLine
 
-LINE_EMOTION = {"positive": 1.0, "negative": -1.0}   # a line's feeling as the human's emotion
+LINE_EMOTION = {"positive": "happy", "negative": "sad"}   # a line's feeling as an expression
 
 
 def pending(lines: list[HeardLine], now: float, max_age_s: float) -> list[HeardLine]:

@@ -112,12 +112,12 @@ class Sense(ContextBehaviour):
         if self.now >= self._emotion_until:
             self.bb.emotion = 0.0
 
-    def _felt(self, value: float, since: float) -> None:
-        """The feeling of the line just answered, as the human's emotion (eq. 3.6) for
-        ``emotion_hold_s``, as a face's would be."""
+    def _felt(self, emotion: str, since: float) -> None:
+        """The feeling of the line just answered (``happy`` or ``sad``), as the human's
+        emotion (eq. 3.6) for ``emotion_hold_s``, as a face's would be."""
         self.bb.line_emotion = None
-        self.emit("emotion", emotion="happy" if value > 0 else "sad", heard=True)
-        self.bb.emotion = value
+        self.emit("emotion", emotion=emotion, heard=True)
+        self.bb.emotion = EMOTION_VALUE[emotion]
         self._emotion_until = max(self._emotion_until, since + self.ctx.config.emotion_hold_s)
 
     def _sound(self, block: Sound) -> None:

@@ -9,3 +9,8 @@ DEFAULTS_DIR = REPO_ROOT / "config"   # the defaults of every config (thesis val
 MODELS_DIR = REPO_ROOT / "assets" / "models"    # shipped checkpoints and their model cards
 URDF_DIR = REPO_ROOT / "assets" / "pepper_urdf"
 WORLDS_DIR = REPO_ROOT / "worlds"
+
+
+def from_root(path: Path) -> Path:
+    """A configured path: relative ones are taken from the repository root."""
+    return path if path.is_absolute() else REPO_ROOT / path

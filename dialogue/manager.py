@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal, Protocol, runtime_checkable
 
-from dialogue.acts.config import QUESTION
+from dialogue.acts.config import QUESTION, SHARING
 from dialogue.acts.model import Reading
 from dialogue.acts.replies import ASKS, FORGET, CompanionTalk, TalkReply, TalkState
 from dialogue.input_check import InputCheck
@@ -45,7 +45,6 @@ SHORT_INTRO = re.compile(r"^(?:(?:hi|hello|hey)\b[\s,!.]*)?(?:i'm|i am)\s+"
                          r"((?-i:[A-Z][a-z][\w'-]*))[\s.!]*$", re.I)  # "Hi, I'm Anna."
 LATER = frozenset({"back", "again", "sometime", "soon", "anytime", "whenever"})  # "call me back"
 ASK_NAME = re.compile(r"\b(?:what(?:'s| is) my name|do you (?:know|remember) my name)\b", re.I)
-SHARING = ("loss", "lonely", "unwell", "worry", "good_news", "memory", "plan", "need")
 RECALLED = ("visit", "ailment", "worry")   # what the robot asks about when they meet again
 UNAVAILABLE = ("I'm sorry, my chit-chat model isn't loaded, so I can't chat freely right now. "
                "I can tell you the time or the weather, read the news, look things up, show "

@@ -231,3 +231,20 @@ def test_train_acts_fits_heads_that_the_robot_loads(tmp_path: Path) -> None:
     model = ActModel.load(cfg)
     assert set(model.acts.labels) == {"loss", "unwell", "greeting", "question"}
     assert model.read("good morning to you").act == "greeting"
+
+
+def test_a_recall_question_with_an_unknown_slot_is_refused(tmp_path) -> None:
+    bad = tmp_path / "acts.yaml"
+    bad.write_text("recall:\n  visit: ['Is {sayd} still coming?']\n")
+    with pytest.raises(ConfigError, match="sayd"):
+        load_acts_config(bad)
+
+
+def test_a_broken_heads_file_is_refused_by_name(tmp_path) -> None:
+    from core.errors import UserError
+    from dialogue.acts.model import load_heads
+
+    broken = tmp_path / "acts.npz"
+    broken.write_bytes(b"PK\x03\x04 not a whole zip")
+    with pytest.raises(UserError, match="not an act model"):
+        load_heads(broken)

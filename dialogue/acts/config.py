@@ -9,11 +9,13 @@ from pathlib import Path
 from pydantic import Field, model_validator
 
 from core.config_files import StrictModel, load_model
-from core.paths import REPO_ROOT
+from core.paths import from_root
 
 ACTS = ("loss", "lonely", "unwell", "worry", "good_news", "memory", "plan", "need", "company",
         "thanks", "greeting", "goodbye", "about_robot", "smalltalk")
 QUESTION = "question"         # a line for the QA bot (the intent router decides which)
+SHARING = ("loss", "lonely", "unwell", "worry", "good_news", "memory", "plan", "need")
+# the acts that share something of the person (the others are social formulae and chat)
 CARE = ("none", "pain", "dizzy", "fall", "medicine", "not_eating", "confused")
 KINDS = ("echo", "female", "male", "people", "pet", "body", "time", "job", "thing", "any")
 Variants = dict[str, list[str]]
@@ -21,20 +23,15 @@ SLOTS = ("topic", "Topic", "word", "they", "them", "their", "They", "Their", "wh
          "helper", "name", "Greeting", "Farewell")   # what a reply may fill in
 
 
-def check_slots(templates: list[str], where: str) -> None:
-    """Raise ``ValueError`` for a template with a slot not in :data:`SLOTS` (or bad braces)."""
-    known = dict.fromkeys(SLOTS, "")
+def check_slots(templates: list[str], where: str, slots: tuple[str, ...] = SLOTS) -> None:
+    """Raise ``ValueError`` for a template with a slot not in ``slots`` (or bad braces)."""
+    known = dict.fromkeys(slots, "")
     for t in templates:
         try:
             t.format_map(known)
         except (KeyError, ValueError, IndexError) as exc:
             raise ValueError(f"{where}: {t!r}: unknown slot or stray brace ({exc}); "
-                             f"slots: {', '.join(SLOTS)}") from None
-
-
-def from_root(path: Path) -> Path:
-    """``path``, a relative one read from the project's root."""
-    return path if path.is_absolute() else REPO_ROOT / path
+                             f"slots: {', '.join(slots)}") from None
 
 
 class ClassifierConfig(StrictModel):
@@ -96,8 +93,7 @@ class RecallConfig(StrictModel):
 
     @model_validator(mode="after")
     def _slots(self) -> RecallConfig:
-        for t in (*self.visit, *self.ailment, *self.worry):
-            t.format_map({"said": "", "when": ""})
+        check_slots([*self.visit, *self.ailment, *self.worry], "recall", ("said", "when"))
         return self
 
 

@@ -14,6 +14,7 @@ The heads are a plain ``.npz`` of arrays, read without pickles.
 
 from __future__ import annotations
 
+import zipfile
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -102,7 +103,7 @@ def load_heads(path: Path) -> tuple[list[Any], Head, Head]:
             act, care = (Head(tuple(str(s) for s in f[f"{k}_labels"]), f[f"{k}_coef"],
                               f[f"{k}_intercept"]) for k in ("act", "care"))
             return vectorizers, act, care
-    except (OSError, KeyError, ValueError) as exc:
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
         raise UserError(f"{path}: not an act model ({exc}); run `companion train acts`") from None
 
 

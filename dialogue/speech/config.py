@@ -10,16 +10,11 @@ from pydantic import Field, model_validator
 
 from core.config_files import StrictModel, load_model
 from core.errors import UserError
-from core.paths import REPO_ROOT
+from core.paths import from_root
 
 
 class SpeechModelError(UserError):
     """The recogniser's model files are missing or unreadable."""
-
-
-def from_root(path: Path) -> Path:
-    """A configured path: relative ones are taken from the repository root."""
-    return path if path.is_absolute() else REPO_ROOT / path
 
 
 class DereverberationConfig(StrictModel):

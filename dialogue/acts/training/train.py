@@ -20,7 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from core.checkpoint import atomic_write
-from dialogue.acts.config import QUESTION, ActsConfig, from_root
+from core.paths import from_root
+from dialogue.acts.config import QUESTION, ActsConfig
 from dialogue.acts.encoder import SentenceEncoder
 from dialogue.acts.model import HEADS_FILE, TFIDF, features, load_act_lines, vectorizer
 from dialogue.intent import CHITCHAT, TRAIN_FILE, load_utterances

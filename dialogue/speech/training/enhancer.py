@@ -27,7 +27,8 @@ from core.checkpoint import (
     fp32_state,
     read_weights,
 )
-from dialogue.speech.config import EnhancerTrainConfig, SpeechModelError, from_root
+from core.paths import from_root
+from dialogue.speech.config import EnhancerTrainConfig, SpeechModelError
 from dialogue.speech.enhancer import BINS, MaskNet
 from dialogue.speech.training.enhancer_data import Examples, make_examples
 
